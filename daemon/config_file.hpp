@@ -1,0 +1,25 @@
+#pragma once
+// The TOML configuration file (config/headingd.toml documents every key). Every error names
+// the file, the line, the key, the value and what is allowed; unknown keys are rejected so a
+// typo cannot silently leave a default in force.
+#include <stdexcept>
+#include <string>
+
+#include "core/bias_tracker.hpp"
+
+namespace headingd::app {
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Config {
+  core::BiasSettings estimator = core::kDefaultBiasSettings;
+};
+
+Config load_config(const std::string& path);
+// For tests and tools: parses TOML text; `name` stands for the file in messages.
+Config parse_config(std::string_view text, const std::string& name);
+
+}  // namespace headingd::app

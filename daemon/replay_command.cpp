@@ -1,0 +1,116 @@
+#include "daemon/replay_command.hpp"
+
+#include <array>
+#include <memory>
+#include <vector>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "core/estimator.hpp"
+#include "daemon/config_file.hpp"
+#include "daemon/estimates_writer.hpp"
+#include "daemon/exit_codes.hpp"
+#include "drivers/csv_replay.hpp"
+
+namespace headingd::app {
+namespace {
+
+constexpr std::size_t kBatch = 4096;
+constexpr double kNominalRateHz = 400.0;  // sizes the writer's wait buffer only
+
+void print_summary(const drivers::SampleSource& source, const core::Estimator& estimator,
+                   double first_t_s, double wall_s, std::uint64_t rows, const std::string& output) {
+  const auto& tracker = estimator.tracker();
+  const auto& last = estimator.last();
+  const double span_s = last.t_s - first_t_s;
+  const auto samples = static_cast<double>(estimator.samples());
+  std::fprintf(stderr, "headingd replay: %s\n", source.describe().c_str());
+  std::fprintf(stderr, "  samples      %llu over %.1f s (%.1f Hz)\n",
+               static_cast<unsigned long long>(estimator.samples()), span_s,
+               span_s > 0 ? (samples - 1.0) / span_s : 0.0);
+  std::fprintf(stderr, "  method       %s; segments of %.1f s: %llu accepted as still, %llu rejected\n",
+               std::string(core::method_name(tracker.settings().method)).c_str(), tracker.settings().segment_s,
+               static_cast<unsigned long long>(tracker.accepted_segments()),
+               static_cast<unsigned long long>(tracker.rejected_segments()));
+  const auto& sigma = tracker.sigma_still_dps();
+  std::fprintf(stderr, "  sigma_still  x %.4f  y %.4f  z %.4f dps\n", sigma.x(), sigma.y(), sigma.z());
+  const auto& bias = last.bias_dps;
+  std::fprintf(stderr, "  bias         x %+.4f  y %+.4f  z %+.4f dps\n", bias.x(), bias.y(), bias.z());
+  std::fprintf(stderr, "  heading      %+.3f deg at the end (unwrapped)\n", last.heading_deg);
+  std::fprintf(stderr, "  estimates    %llu rows to %s\n", static_cast<unsigned long long>(rows),
+               output == "-" ? "standard output" : output.c_str());
+  std::fprintf(stderr, "  speed        %.2f s wall, %.2f million samples/s, %.0fx real time\n", wall_s,
+               wall_s > 0 ? samples / wall_s / 1e6 : 0.0, wall_s > 0 ? span_s / wall_s : 0.0);
+}
+
+}  // namespace
+
+int run_replay(const ReplayOptions& options) {
+  core::BiasSettings settings = core::kDefaultBiasSettings;
+  try {
+    if (options.config_path) settings = load_config(*options.config_path).estimator;
+  } catch (const ConfigError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitConfig;
+  }
+  if (options.method) {
+    const auto method = core::parse_method(*options.method);
+    if (!method) {
+      std::fprintf(stderr, "headingd: --method: '%s' is not a method (use a, b or c)\n", options.method->c_str());
+      return kExitUsage;
+    }
+    settings.method = *method;
+  }
+  if (!(options.output_rate_hz >= 0.0) || !std::isfinite(options.output_rate_hz)) {
+    std::fprintf(stderr, "headingd: --output-rate must be 0 (every sample) or a positive rate in Hz\n");
+    return kExitUsage;
+  }
+
+  std::unique_ptr<drivers::CsvReplaySource> source;
+  try {
+    source = std::make_unique<drivers::CsvReplaySource>(options.input);
+  } catch (const drivers::OpenError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitNoInput;
+  } catch (const drivers::InputError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitDataError;
+  }
+
+  const auto started = std::chrono::steady_clock::now();
+  core::Estimator estimator(settings);
+  int exit_code = kExitOk;
+  double first_t_s = 0.0;
+  std::uint64_t rows = 0;
+  try {
+    CsvOut out(options.output);
+    const double rows_per_second = options.output_rate_hz > 0 ? options.output_rate_hz : kNominalRateHz;
+    EstimatesWriter writer(out, options.output_rate_hz,
+                           static_cast<std::size_t>(std::ceil(rows_per_second * settings.segment_s)));
+    std::vector<core::Sample> batch(kBatch);
+    try {
+      while (const std::size_t count = source->read(batch)) {
+        if (estimator.samples() == 0) first_t_s = batch[0].t_s;
+        for (std::size_t i = 0; i < count; ++i) writer.add(estimator.update(batch[i]));
+      }
+    } catch (const drivers::InputError& error) {
+      std::fprintf(stderr, "headingd: %s\n", error.what());
+      std::fprintf(stderr, "headingd: stopped there; estimates up to the previous sample are kept\n");
+      exit_code = kExitDataError;
+    }
+    writer.finish();
+    out.close();
+    rows = writer.rows_written();
+  } catch (const OutputError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitCantCreate;
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (!options.quiet && estimator.samples() > 0) {
+    print_summary(*source, estimator, first_t_s, wall_s, rows, options.output);
+  }
+  return exit_code;
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,18 @@
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace headingd::app {
+
+struct SimulateOptions {
+  std::string scenario;
+  std::uint64_t seed = 1;
+  std::string output_dir;
+  double hours = 0.0;  // 0: the scenario's own length
+};
+
+// Writes OUTPUT_DIR/imu.csv (native CSV at the sensor rate, quantised like the chip) and
+// OUTPUT_DIR/truth.csv (time_s,heading_deg,bias_z_dps,moving at 10 Hz).
+int run_simulate(const SimulateOptions& options);
+
+}  // namespace headingd::app

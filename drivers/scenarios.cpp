@@ -1,0 +1,114 @@
+#include "drivers/scenarios.hpp"
+
+#include <cmath>
+#include <random>
+
+#include "core/units.hpp"
+
+namespace headingd::drivers {
+namespace {
+
+using core::Vec3;
+
+// Appends legs given in seconds, rounding each to whole samples.
+class LegBuilder {
+ public:
+  explicit LegBuilder(Scenario& scenario) : scenario_(scenario) {}
+
+  void still(double duration_s) { add(duration_s, 0.0, 0.0, false); }
+  void turn(double duration_s, double rate_z_dps, double vibration_dps) {
+    add(duration_s, rate_z_dps, vibration_dps, true);
+  }
+  void add(double duration_s, double rate_z_dps, double vibration_dps, bool moving) {
+    Leg leg;
+    leg.samples = static_cast<std::uint64_t>(std::llround(duration_s * scenario_.noise.rate_hz));
+    leg.rate_dps = Vec3(0.0, 0.0, rate_z_dps);
+    leg.vibration_dps = vibration_dps;
+    leg.moving = moving;
+    if (leg.samples > 0) scenario_.legs.push_back(leg);
+  }
+  std::uint64_t samples() const {
+    std::uint64_t total = 0;
+    for (const Leg& leg : scenario_.legs) total += leg.samples;
+    return total;
+  }
+  double elapsed_s() const { return static_cast<double>(samples()) / scenario_.noise.rate_hz; }
+
+ private:
+  Scenario& scenario_;
+};
+
+// The paper's protocol: 0.2 rad every 6 minutes, one direction, each turn ending slowly
+// (a positioning drive creeping onto its target), on a turntable with little vibration.
+void build_paper12h(Scenario& s) {
+  LegBuilder legs(s);
+  const double turn_deg = core::rad_to_deg(0.2);
+  constexpr double kPeriodS = 360.0;
+  const double duration_s = static_cast<double>(s.total_samples) / s.noise.rate_hz;
+  legs.still(60.0);
+  for (double start_s = 60.0; start_s + kPeriodS <= duration_s + 1e-9; start_s += kPeriodS) {
+    legs.turn(2.0, 5.0, 0.05);                              // 10 deg fast
+    legs.turn(4.0, 0.3, 0.02);                              // 1.2 deg slowing down
+    legs.turn((turn_deg - 11.2) / 0.05, 0.05, 0.02);        // the rest creeping
+    legs.still(start_s + kPeriodS - legs.elapsed_s());
+  }
+}
+
+// A warehouse AGV: stops of 5-60 s, straight drives with floor vibration and small heading
+// corrections, 45/90 deg turns at 20-40 dps, now and then a long gentle curve.
+void build_agv(Scenario& s, std::uint64_t seed) {
+  LegBuilder legs(s);
+  std::mt19937_64 rng(seed * 7919 + 17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto between = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
+  const double duration_s = static_cast<double>(s.total_samples) / s.noise.rate_hz;
+  legs.still(10.0);
+  while (legs.elapsed_s() < duration_s) {
+    legs.turn(between(10.0, 40.0), between(-0.5, 0.5), 1.0);  // straight, correcting
+    const double kind = unit(rng);
+    const double sign = unit(rng) < 0.5 ? -1.0 : 1.0;
+    if (kind < 0.6) {
+      const double angle_deg = unit(rng) < 0.7 ? 90.0 : 45.0;
+      const double rate_dps = between(20.0, 40.0);
+      legs.turn(angle_deg / rate_dps, sign * rate_dps, 1.5);
+    } else if (kind < 0.8) {
+      legs.turn(between(10.0, 20.0), sign * between(2.0, 5.0), 1.0);  // gentle curve
+    }
+    legs.turn(between(5.0, 20.0), between(-0.5, 0.5), 1.0);
+    legs.still(between(5.0, 60.0));
+  }
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> scenario_list() {
+  return {
+      {"paper12h", "the paper's 12 h test: 0.2 rad every 6 min, slow final stage of each turn"},
+      {"still", "standing still for 4 h through the warm-up"},
+      {"agv", "warehouse AGV, 1 h: stops, straight drives with vibration, 45/90 deg turns, curves"},
+  };
+}
+
+std::optional<Scenario> build_scenario(std::string_view name, std::uint64_t seed, double hours) {
+  Scenario s;
+  s.name = std::string(name);
+  double default_hours = 0.0;
+  if (name == "paper12h") {
+    default_hours = 12.0;
+  } else if (name == "still") {
+    default_hours = 4.0;
+  } else if (name == "agv") {
+    default_hours = 1.0;
+  } else {
+    return std::nullopt;
+  }
+  for (const auto& [known, description] : scenario_list())
+    if (known == name) s.description = description;
+  const double use_hours = hours > 0.0 ? hours : default_hours;
+  s.total_samples = static_cast<std::uint64_t>(std::llround(use_hours * 3600.0 * s.noise.rate_hz));
+  if (name == "paper12h") build_paper12h(s);
+  if (name == "agv") build_agv(s, seed);
+  return s;
+}
+
+}  // namespace headingd::drivers
