@@ -38,18 +38,21 @@ class LegBuilder {
   Scenario& scenario_;
 };
 
-// The paper's protocol: 0.2 rad every 6 minutes, one direction, each turn ending slowly
-// (a positioning drive creeping onto its target), on a turntable with little vibration.
+// The paper's protocol: 0.2 rad every 6 minutes, each turn ending slowly (a positioning
+// drive creeping onto its target), on a turntable with little vibration. The paper does not
+// give the direction; we turn back and forth, as a cabled turntable must over 12 h.
 void build_paper12h(Scenario& s) {
   LegBuilder legs(s);
   const double turn_deg = core::rad_to_deg(0.2);
   constexpr double kPeriodS = 360.0;
   const double duration_s = static_cast<double>(s.total_samples) / s.noise.rate_hz;
   legs.still(60.0);
+  double sign = 1.0;
   for (double start_s = 60.0; start_s + kPeriodS <= duration_s + 1e-9; start_s += kPeriodS) {
-    legs.turn(2.0, 5.0, 0.05);                              // 10 deg fast
-    legs.turn(4.0, 0.3, 0.02);                              // 1.2 deg slowing down
-    legs.turn((turn_deg - 11.2) / 0.05, 0.05, 0.02);        // the rest creeping
+    legs.turn(2.0, sign * 5.0, 0.05);                        // 10 deg fast
+    legs.turn(4.0, sign * 0.3, 0.02);                        // 1.2 deg slowing down
+    legs.turn((turn_deg - 11.2) / 0.05, sign * 0.05, 0.02);  // the rest creeping
+    sign = -sign;
     legs.still(start_s + kPeriodS - legs.elapsed_s());
   }
 }

@@ -1,0 +1,46 @@
+# Shared by the README's commands: install what is missing, configure and build.
+# Sourced, not run. Works as root on a fresh Debian 12; uses sudo otherwise.
+
+HEADINGD_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+# Debian packages the build, the tests and the benchmarks need.
+HEADINGD_PACKAGES=(
+  cmake ninja-build g++ pkg-config
+  libeigen3-dev libcli11-dev libtomlplusplus-dev
+  libgtest-dev libgmock-dev
+)
+
+# Installs the named Debian packages that are not installed yet; does nothing when all are.
+ensure_packages() {
+  local missing=()
+  local pkg
+  for pkg in "$@"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "headingd: installing ${missing[*]}" >&2
+  local sudo=()
+  [ "$(id -u)" -eq 0 ] || sudo=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo[@]}" apt-get update -qq
+  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+# Configures and builds a CMake preset (default: "default"). With "quiet" as second
+# argument the compiler output goes to build/PRESET.log and is shown only on failure.
+build_preset() {
+  local preset="${1:-default}"
+  cd "$HEADINGD_ROOT"
+  if [ "${2:-}" = quiet ]; then
+    mkdir -p build
+    local log="build/$preset.log"
+    if ! { cmake --preset "$preset" && cmake --build --preset "$preset"; } >"$log" 2>&1; then
+      tail -n 40 "$log" >&2
+      echo "headingd: build failed; full log in $log" >&2
+      return 1
+    fi
+  else
+    cmake --preset "$preset" >/dev/null
+    cmake --build --preset "$preset"
+  fi
+}

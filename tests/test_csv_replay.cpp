@@ -1,0 +1,153 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "drivers/csv_replay.hpp"
+#include "temp_dir.hpp"
+
+using headingd::core::Sample;
+using headingd::drivers::CsvReplaySource;
+using headingd::drivers::InputError;
+using headingd::drivers::OpenError;
+using headingd::test::TempDir;
+
+namespace {
+
+std::vector<Sample> read_all(CsvReplaySource& source) {
+  std::vector<Sample> all;
+  std::vector<Sample> batch(3);  // small batches exercise the hand-over between calls
+  while (const auto n = source.read(batch)) all.insert(all.end(), batch.begin(), batch.begin() + static_cast<long>(n));
+  return all;
+}
+
+// Reads until the error and returns its message; fails the test if none comes.
+std::string error_of(const std::string& path, std::size_t* good_samples = nullptr) {
+  std::vector<Sample> batch(4096);
+  std::size_t good = 0;
+  try {
+    CsvReplaySource source(path);
+    while (const auto n = source.read(batch)) good += n;
+  } catch (const InputError& error) {
+    if (good_samples) *good_samples = good;
+    return error.what();
+  }
+  ADD_FAILURE() << "no error for " << path;
+  return {};
+}
+
+}  // namespace
+
+TEST(CsvReplay, NativeWithCommentsTemperatureAndAnyColumnOrder) {
+  TempDir dir;
+  const auto path = dir.file("rec.csv",
+                             "# sensor: L3GD20H\n# rate: 400 Hz\n"
+                             "temp_c,time_s,gz_dps,gx_dps,extra,gy_dps\n"
+                             "25.5,0.0,-0.455,0.1,x,0.2\n"
+                             "\n"
+                             "25.5,0.0025,+1.5,0.1,y,0.2\r\n"
+                             "25.6,0.005,2e-3,0.1,z,0.2");  // last line without newline
+  CsvReplaySource source(path);
+  EXPECT_EQ(source.format(), CsvReplaySource::Format::Native);
+  EXPECT_TRUE(source.has_temperature());
+  ASSERT_EQ(source.comments().size(), 2u);
+  EXPECT_EQ(source.comments()[0], "sensor: L3GD20H");
+  const auto samples = read_all(source);
+  ASSERT_EQ(samples.size(), 3u);
+  EXPECT_DOUBLE_EQ(samples[0].rate_dps.z(), -0.455);
+  EXPECT_DOUBLE_EQ(samples[1].rate_dps.z(), 1.5);
+  EXPECT_DOUBLE_EQ(samples[2].rate_dps.z(), 0.002);
+  EXPECT_DOUBLE_EQ(samples[2].t_s, 0.005);
+  EXPECT_DOUBLE_EQ(samples[2].temp_c, 25.6);
+  EXPECT_DOUBLE_EQ(samples[1].rate_dps.y(), 0.2);
+}
+
+TEST(CsvReplay, WithoutTemperatureColumnGivesNaN) {
+  TempDir dir;
+  CsvReplaySource source(dir.file("r.csv", "time_s,gx_dps,gy_dps,gz_dps\n0,1,2,3\n"));
+  EXPECT_FALSE(source.has_temperature());
+  const auto samples = read_all(source);
+  ASSERT_EQ(samples.size(), 1u);
+  EXPECT_TRUE(std::isnan(samples[0].temp_c));
+}
+
+TEST(CsvReplay, EurocConvertsNanosecondsAndRadians) {
+  TempDir dir;
+  const auto path = dir.file("imu.csv",
+                             "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
+                             "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n"
+                             "1000000000,0.0,0.0,3.141592653589793,0.1,0.0,9.8\n"
+                             "1003500000,0.017453292519943295,0,0,0.1,0.0,9.8\n");
+  CsvReplaySource source(path);
+  EXPECT_EQ(source.format(), CsvReplaySource::Format::Euroc);
+  const auto samples = read_all(source);
+  ASSERT_EQ(samples.size(), 2u);
+  EXPECT_DOUBLE_EQ(samples[0].t_s, 1.0);
+  EXPECT_DOUBLE_EQ(samples[1].t_s, 1.0035);
+  EXPECT_NEAR(samples[0].rate_dps.z(), 180.0, 1e-12);
+  EXPECT_NEAR(samples[1].rate_dps.x(), 1.0, 1e-12);
+}
+
+TEST(CsvReplay, SharedBroadRecordingReadsCompletely) {
+  const std::string path = HEADINGD_SOURCE_DIR "/../shared/data/broad-05/imu.csv";
+  if (!std::ifstream(path)) GTEST_SKIP() << "shared data not beside the checkout";
+  CsvReplaySource source(path);
+  const auto samples = read_all(source);
+  EXPECT_EQ(samples.size(), 59212u);
+  EXPECT_NEAR(samples.back().t_s - samples.front().t_s, 207.2, 0.1);
+}
+
+TEST(CsvReplayErrors, MalformedLineNamesFileLineAndCount) {
+  TempDir dir;
+  const auto path = dir.file("bad.csv", "# c\ntime_s,gx_dps,gy_dps,gz_dps\n0,1,2,3\n0.1,1,2\n");
+  std::size_t good = 0;
+  const auto message = error_of(path, &good);
+  EXPECT_NE(message.find(path + ":4: expected 4 fields, found 3"), std::string::npos) << message;
+  EXPECT_EQ(good, 1u) << "the good sample before the bad line is delivered";
+}
+
+TEST(CsvReplayErrors, NonNumericFieldNamesColumn) {
+  TempDir dir;
+  const auto path = dir.file("bad.csv", "time_s,gx_dps,gy_dps,gz_dps\n0,1,2,3\n0.1,1,abc,3\n");
+  const auto message = error_of(path);
+  EXPECT_NE(message.find(":3: field 'gy_dps' (column 3): 'abc' is not a finite number"), std::string::npos)
+      << message;
+  EXPECT_NE(error_of(dir.file("nan.csv", "time_s,gx_dps,gy_dps,gz_dps\n0,nan,2,3\n")).find("gx_dps"),
+            std::string::npos);
+}
+
+TEST(CsvReplayErrors, MissingColumnListsWhatWasFound) {
+  TempDir dir;
+  const auto message = error_of(dir.file("bad.csv", "time_s,gx_dps,gy_dps\n0,1,2\n"));
+  EXPECT_NE(message.find(":1: missing column 'gz_dps' in header (found: time_s,gx_dps,gy_dps)"), std::string::npos)
+      << message;
+}
+
+TEST(CsvReplayErrors, TimeGoingBackwardsOrStanding) {
+  TempDir dir;
+  auto message = error_of(dir.file("back.csv", "time_s,gx_dps,gy_dps,gz_dps\n1.0,0,0,0\n0.5,0,0,0\n"));
+  EXPECT_NE(message.find(":3: time goes backwards"), std::string::npos) << message;
+  message = error_of(dir.file("same.csv", "time_s,gx_dps,gy_dps,gz_dps\n1.0,0,0,0\n1.0,0,0,0\n"));
+  EXPECT_NE(message.find(":3: time does not advance"), std::string::npos) << message;
+}
+
+TEST(CsvReplayErrors, EmptyFileHeaderOnlyAndNoHeader) {
+  TempDir dir;
+  EXPECT_NE(error_of(dir.file("empty.csv", "")).find("file is empty"), std::string::npos);
+  EXPECT_NE(error_of(dir.file("hdr.csv", "time_s,gx_dps,gy_dps,gz_dps\n")).find("no samples after the header"),
+            std::string::npos);
+  EXPECT_NE(error_of(dir.file("com.csv", "# only a comment\n")).find("no header line"), std::string::npos);
+}
+
+TEST(CsvReplayErrors, EurocBadTimestamp) {
+  TempDir dir;
+  const auto message = error_of(dir.file("e.csv",
+                                         "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1]\n"
+                                         "1.5e9,0,0,0\n"));
+  EXPECT_NE(message.find(":2: field 'timestamp [ns]' (column 1): '1.5e9' is not an integer"), std::string::npos)
+      << message;
+}
+
+TEST(CsvReplayErrors, MissingFileIsAnOpenError) {
+  EXPECT_THROW(CsvReplaySource("/nonexistent/imu.csv"), OpenError);
+}
