@@ -20,9 +20,9 @@ struct NoiseModel {
   // Bias instability, dps (paper: 3.58 deg/h on z), shaped as a sum of Gauss-Markov terms.
   core::Vec3 bias_instability_dps{0.003, 0.003, 0.001};
   core::Vec3 initial_bias_dps{0.35, -0.21, -0.455};  // paper: z mean -52 LSB = -0.455 dps
-  core::Vec3 bias_per_c_dps{0.004, -0.003, 0.001};   // zero-rate change with temperature
+  core::Vec3 bias_per_c_dps{0.004, -0.003, 0.0012};  // zero-rate change with temperature
   double ambient_c = 22.0;
-  double warmup_rise_c = 12.0;            // self-heating after power-on
+  double warmup_rise_c = 15.0;            // self-heating after power-on
   double warmup_tau_s = 3600.0;           // paper: about 4 h to settle (~4 time constants)
   double quantum_dps = 0.00875;           // 8.75 mdps/LSB at +-245 dps
   double full_scale_dps = 245.0;

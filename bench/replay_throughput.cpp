@@ -1,0 +1,75 @@
+// Replay throughput: the whole `headingd replay` path on a file (parse, estimate, write the
+// 10 Hz estimates), and the core alone on samples already in memory. Medians of repeated
+// runs, since the machine is shared.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/estimator.hpp"
+#include "daemon/replay_command.hpp"
+#include "drivers/gyro_simulator.hpp"
+#include "machine.hpp"
+
+using namespace headingd;
+
+namespace {
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+template <typename F>
+double seconds_of(F&& run) {
+  const auto start = std::chrono::steady_clock::now();
+  run();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int repeats = 5;
+  std::printf("machine: %s\n", bench::machine_description().c_str());
+
+  // Core alone: one hour of the paper's protocol in memory, through the estimator.
+  std::vector<core::Sample> samples;
+  drivers::GyroSimulator sim(*drivers::build_scenario("paper12h", 1, 1.0), 1);
+  drivers::TruthPoint truth;
+  samples.resize(sim.scenario().total_samples);
+  for (auto& sample : samples) sim.step(sample, truth);
+  std::vector<double> core_s;
+  double sink = 0.0;
+  for (int r = 0; r < repeats; ++r) {
+    core_s.push_back(seconds_of([&] {
+      core::Estimator estimator;
+      for (const auto& sample : samples) sink += estimator.update(sample).heading_deg;
+    }));
+  }
+  const double core_median = median(core_s);
+  std::printf("core alone: %.1f million samples/s, %.1f ns/sample (median of %d runs over %zu samples)%s\n",
+              static_cast<double>(samples.size()) / core_median / 1e6,
+              core_median / static_cast<double>(samples.size()) * 1e9, repeats, samples.size(),
+              sink == 0.123 ? " " : "");
+
+  if (argc < 2) return 0;
+  // Whole replay path on a file, estimates at 10 Hz to /dev/null.
+  app::ReplayOptions options;
+  options.input = argv[1];
+  options.output = "/dev/null";
+  options.quiet = true;
+  std::vector<double> replay_s;
+  const int file_repeats = 3;
+  for (int r = 0; r < file_repeats; ++r) {
+    int code = 0;
+    replay_s.push_back(seconds_of([&] { code = app::run_replay(options); }));
+    if (code != 0) {
+      std::fprintf(stderr, "replay failed with exit code %d\n", code);
+      return code;
+    }
+  }
+  std::printf("replay %s: %.2f s (median of %d runs)\n", argv[1], median(replay_s), file_repeats);
+  return 0;
+}
