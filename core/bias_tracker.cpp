@@ -30,8 +30,8 @@ std::optional<std::string> validate(const BiasSettings& s) {
   return std::nullopt;
 }
 
-BiasTracker::BiasTracker(const BiasSettings& settings)
-    : settings_(settings), history_(settings.n_means), in_startup_(settings.still_at_start) {
+BiasTracker::BiasTracker(Method method, const BiasSettings& settings)
+    : method_(method), settings_(settings), history_(settings.n_means), in_startup_(settings.still_at_start) {
   if (settings_.sigma_still_dps) sigma_still_dps_ = *settings_.sigma_still_dps;
 }
 
@@ -74,10 +74,11 @@ SegmentVerdict BiasTracker::close_segment() {
   SegmentVerdict verdict{.closed = true, .index = segment_index_};
   verdict.range_ok = range_says_still(segment_, sigma_still_dps_, settings_.k_range);
   verdict.mean_ok = history_.consistent(segment_.mean_dps(), sigma_still_dps_, settings_.k_mean);
-  switch (settings_.method) {
+  switch (method_) {
     case Method::A: verdict.accepted = false; break;
     case Method::B: verdict.accepted = verdict.range_ok; break;
     case Method::C: verdict.accepted = verdict.range_ok && verdict.mean_ok; break;
+    case Method::Auto: verdict.accepted = false; break;  // not this tracker's method
   }
   if (verdict.accepted) {
     bias_dps_ = segment_.mean_dps();

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "core/estimate.hpp"
 #include "core/method.hpp"
 #include "core/segment_stats.hpp"
 #include "core/stillness.hpp"
@@ -14,7 +15,6 @@
 namespace headingd::core {
 
 struct BiasSettings {
-  Method method = Method::C;
   double segment_s = 3.0;        // segment length, s (paper: 3 s)
   double k_range = 7.0;          // range criterion factor (paper: 7)
   double k_mean = 1.0;           // mean-consistency factor (paper: 1)
@@ -31,17 +31,9 @@ inline constexpr BiasSettings kDefaultBiasSettings{};
 // Empty when the settings are usable; otherwise names the offending field and why.
 std::optional<std::string> validate(const BiasSettings& settings);
 
-struct SegmentVerdict {
-  bool closed = false;     // this sample closed a segment; the fields below describe it
-  std::uint64_t index = 0;
-  bool range_ok = false;
-  bool mean_ok = false;
-  bool accepted = false;   // the method took the segment's mean as the new bias
-};
-
 class BiasTracker {
  public:
-  explicit BiasTracker(const BiasSettings& settings = kDefaultBiasSettings);
+  explicit BiasTracker(Method method = Method::C, const BiasSettings& settings = kDefaultBiasSettings);
 
   // Closes the running segment when this sample lies past its end (judging it before the
   // sample is used, so the new bias applies to this sample), then adds the sample.
@@ -57,11 +49,13 @@ class BiasTracker {
   std::uint64_t accepted_segments() const { return accepted_; }
   std::uint64_t rejected_segments() const { return rejected_; }
   const BiasSettings& settings() const { return settings_; }
+  Method method() const { return method_; }
 
  private:
   SegmentVerdict close_segment();
   SegmentVerdict close_startup_segment();
 
+  Method method_;
   BiasSettings settings_;
   SegmentStats segment_;
   MeanHistory history_;

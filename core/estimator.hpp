@@ -1,44 +1,50 @@
 #pragma once
-// One sample in, one estimate out: the bias tracker plus heading and attitude integration.
+// One sample in, one estimate out, whichever method is configured: the paper's A/B/C or
+// headingd's own `auto` (the default).
 #include <cstdint>
-#include <limits>
+#include <optional>
+#include <string>
+#include <variant>
 
-#include <Eigen/Geometry>
-
-#include "core/attitude_integrator.hpp"
-#include "core/bias_tracker.hpp"
-#include "core/heading_integrator.hpp"
+#include "core/auto_estimator.hpp"
+#include "core/paper_estimator.hpp"
 
 namespace headingd::core {
 
-struct Estimate {
-  double t_s = 0.0;
-  double heading_deg = 0.0;  // unwrapped integral of the bias-corrected z rate
-  Eigen::Quaterniond attitude = Eigen::Quaterniond::Identity();
-  Vec3 bias_dps = Vec3::Zero();
-  Vec3 rate_dps = Vec3::Zero();  // bias-corrected
-  double heading_sigma_deg = std::numeric_limits<double>::quiet_NaN();  // NaN: not provided
-  bool in_startup = false;        // heading held while the start-up segment is measured
-  std::uint64_t segment_index = 0;  // segment this sample belongs to
-  SegmentVerdict closed;          // the segment this sample closed, if any
+struct EstimatorSettings {
+  Method method = Method::Auto;
+  BiasSettings segments = kDefaultBiasSettings;  // segment length, sigma_still, start-up; A/B/C criteria
+  AutoSettings automatic = kDefaultAutoSettings;
 };
+
+inline const EstimatorSettings kDefaultEstimatorSettings{};
+
+// Empty when usable; otherwise names the offending field and why.
+std::optional<std::string> validate(const EstimatorSettings& settings);
 
 class Estimator {
  public:
-  explicit Estimator(const BiasSettings& settings = kDefaultBiasSettings);
+  explicit Estimator(const EstimatorSettings& settings = kDefaultEstimatorSettings);
 
   const Estimate& update(const Sample& sample);
-  const Estimate& last() const { return estimate_; }
-  const BiasTracker& tracker() const { return tracker_; }
-  BiasTracker& tracker() { return tracker_; }
+  const Estimate& last() const;
   std::uint64_t samples() const { return samples_; }
 
+  Method method() const { return settings_.method; }
+  const EstimatorSettings& settings() const { return settings_; }
+  std::uint64_t accepted_segments() const;
+  std::uint64_t rejected_segments() const;
+  Vec3 sigma_still_dps() const;
+  bool in_startup() const;
+
+  void set_motion_hint(MotionHint hint);
+  void set_heading(double heading_deg, double variance_deg2);
+  // The auto estimator, when it is the method in force (for its model and noise figures).
+  const AutoEstimator* automatic() const { return std::get_if<AutoEstimator>(&impl_); }
+
  private:
-  BiasTracker tracker_;
-  HeadingIntegrator heading_;
-  AttitudeIntegrator attitude_;
-  Estimate estimate_;
-  double previous_t_s_ = 0.0;
+  EstimatorSettings settings_;
+  std::variant<PaperEstimator, AutoEstimator> impl_;
   std::uint64_t samples_ = 0;
 };
 

@@ -56,41 +56,119 @@ double number_in(const std::string& file, const toml::node& node, const std::str
   return *value;
 }
 
-void read_estimator(const std::string& file, const toml::table& table, core::BiasSettings& s) {
-  for (const auto& [raw_key, node] : table) {
-    const std::string key = "estimator." + std::string(raw_key.str());
-    const std::string_view name = raw_key.str();
-    if (name == "method") {
-      const auto* text = node.as_string();
-      const auto method = text ? core::parse_method(text->get()) : std::nullopt;
-      if (!method) fail(file, node, key, "is " + shown(node) + ", allowed \"a\", \"b\" or \"c\"");
-      s.method = *method;
-    } else if (name == "segment_s") {
-      s.segment_s = number_in(file, node, key, 0.0, 600.0, true);
-    } else if (name == "k_range") {
-      s.k_range = number_in(file, node, key, 0.0, 1000.0, true);
-    } else if (name == "k_mean") {
-      s.k_mean = number_in(file, node, key, 0.0, 1000.0, true);
-    } else if (name == "n_means") {
-      if (!node.is_integer()) fail(file, node, key, "must be an integer, found " + shown(node));
-      s.n_means = static_cast<std::size_t>(number_in(file, node, key, 1.0, static_cast<double>(core::MeanHistory::kMaxMeans), false));
-    } else if (name == "still_at_start") {
-      if (!node.is_boolean()) fail(file, node, key, "must be true or false, found " + shown(node));
-      s.still_at_start = node.as_boolean()->get();
-    } else if (name == "sigma_still_dps") {
-      const auto* array = node.as_array();
-      if (array == nullptr || array->size() != 3)
-        fail(file, node, key, "must be an array of three numbers [x, y, z] in dps, found " + shown(node));
-      core::Vec3 sigma;
-      for (std::size_t axis = 0; axis < 3; ++axis)
-        sigma[static_cast<Eigen::Index>(axis)] = number_in(file, *array->get(axis), key, 0.0, 100.0, true);
-      s.sigma_still_dps = sigma;
-    } else {
-      fail(file, node, key,
-           "is not a known key (known: method, segment_s, k_range, k_mean, n_means, "
-           "sigma_still_dps, still_at_start)");
+// Reads one TOML table key by key; every key must be claimed by a handler.
+class TableReader {
+ public:
+  TableReader(const std::string& file, const toml::table& table, std::string prefix)
+      : file_(file), table_(table), prefix_(std::move(prefix)) {}
+
+  double number(const toml::node& node, const std::string& key, double lo, double hi, bool lo_open) const {
+    return number_in(file_, node, key, lo, hi, lo_open);
+  }
+  core::Vec3 vector3(const toml::node& node, const std::string& key, double lo, double hi) const {
+    const auto* array = node.as_array();
+    if (array == nullptr || array->size() != 3)
+      fail(file_, node, key, "must be an array of three numbers [x, y, z], found " + shown(node));
+    core::Vec3 v;
+    for (std::size_t axis = 0; axis < 3; ++axis)
+      v[static_cast<Eigen::Index>(axis)] = number_in(file_, *array->get(axis), key, lo, hi, true);
+    return v;
+  }
+  bool boolean(const toml::node& node, const std::string& key) const {
+    if (!node.is_boolean()) fail(file_, node, key, "must be true or false, found " + shown(node));
+    return node.as_boolean()->get();
+  }
+  std::uint32_t integer(const toml::node& node, const std::string& key, std::int64_t lo, std::int64_t hi) const {
+    if (!node.is_integer()) fail(file_, node, key, "must be an integer, found " + shown(node));
+    return static_cast<std::uint32_t>(number_in(file_, node, key, static_cast<double>(lo), static_cast<double>(hi), false));
+  }
+
+  // Calls handle(name, node, full_key) for each key; handle returns false for unknown keys.
+  template <typename Handler>
+  void each(Handler&& handle, const char* known) const {
+    for (const auto& [raw_key, node] : table_) {
+      const std::string name(raw_key.str());
+      const std::string key = prefix_ + name;
+      if (!handle(name, node, key)) fail(file_, node, key, std::string("is not a known key (known: ") + known + ")");
     }
   }
+  const std::string& file() const { return file_; }
+
+ private:
+  const std::string& file_;
+  const toml::table& table_;
+  std::string prefix_;
+};
+
+const toml::table& as_table(const std::string& file, const toml::node& node, const std::string& key) {
+  const auto* table = node.as_table();
+  if (table == nullptr) fail(file, node, key, "must be a table ([" + key + "])");
+  return *table;
+}
+
+void read_temperature(const TableReader& r, core::AutoSettings& a) {
+  auto& t = a.temperature;
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "enabled") a.use_temperature = r.boolean(node, key);
+        else if (name == "reference_c") t.reference_c = r.number(node, key, -60.0, 150.0, false);
+        else if (name == "half_life_h") t.half_life_s = 3600.0 * r.number(node, key, 0.0, 24.0 * 365.0, true);
+        else if (name == "min_span_c") t.min_span_c = r.number(node, key, 0.0, 100.0, true);
+        else if (name == "quadratic_span_c") t.quadratic_span_c = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "min_points") t.min_points = r.integer(node, key, 3, 100000);
+        else return false;
+        return true;
+      },
+      "enabled, reference_c, half_life_h, min_span_c, quadratic_span_c, min_points");
+}
+
+void read_auto(const TableReader& r, core::AutoSettings& a) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "min_segment_s") a.min_segment_s = r.number(node, key, 0.0, 600.0, true);
+        else if (name == "k_range") a.k_range = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "k_mean") a.k_mean = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "arw_dps_rt_hz") a.arw_dps_rt_hz = r.vector3(node, key, 0.0, 10.0);
+        else if (name == "bias_walk_dps_rt_s") a.bias_walk_dps_rt_s = r.number(node, key, 0.0, 1.0, false);
+        else if (name == "block_s") a.block_s = r.number(node, key, 0.0, 60.0, true);
+        else return false;
+        return true;
+      },
+      "min_segment_s, k_range, k_mean, arw_dps_rt_hz, bias_walk_dps_rt_s, block_s");
+}
+
+void read_estimator(const TableReader& r, core::EstimatorSettings& e) {
+  core::BiasSettings& s = e.segments;
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "method") {
+          const auto* text = node.as_string();
+          const auto method = text ? core::parse_method(text->get()) : std::nullopt;
+          if (!method) fail(r.file(), node, key, "is " + shown(node) + ", allowed \"auto\", \"a\", \"b\" or \"c\"");
+          e.method = *method;
+        } else if (name == "segment_s") {
+          s.segment_s = r.number(node, key, 0.0, 600.0, true);
+        } else if (name == "k_range") {
+          s.k_range = r.number(node, key, 0.0, 1000.0, true);
+        } else if (name == "k_mean") {
+          s.k_mean = r.number(node, key, 0.0, 1000.0, true);
+        } else if (name == "n_means") {
+          s.n_means = r.integer(node, key, 1, static_cast<std::int64_t>(core::MeanHistory::kMaxMeans));
+        } else if (name == "still_at_start") {
+          s.still_at_start = r.boolean(node, key);
+        } else if (name == "sigma_still_dps") {
+          s.sigma_still_dps = r.vector3(node, key, 0.0, 100.0);
+        } else if (name == "auto") {
+          read_auto(TableReader(r.file(), as_table(r.file(), node, key), key + "."), e.automatic);
+        } else if (name == "temperature") {
+          read_temperature(TableReader(r.file(), as_table(r.file(), node, key), key + "."), e.automatic);
+        } else {
+          return false;
+        }
+        return true;
+      },
+      "method, segment_s, k_range, k_mean, n_means, sigma_still_dps, still_at_start, [estimator.auto], "
+      "[estimator.temperature]");
 }
 
 Config interpret(const toml::table& root, const std::string& file) {
@@ -98,9 +176,7 @@ Config interpret(const toml::table& root, const std::string& file) {
   for (const auto& [raw_key, node] : root) {
     const std::string key(raw_key.str());
     if (key == "estimator") {
-      const auto* table = node.as_table();
-      if (table == nullptr) fail(file, node, key, "must be a table ([estimator])");
-      read_estimator(file, *table, config.estimator);
+      read_estimator(TableReader(file, as_table(file, node, key), "estimator."), config.estimator);
     } else {
       fail(file, node, key, "is not a known section (known: [estimator])");
     }

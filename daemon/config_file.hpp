@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/bias_tracker.hpp"
+#include "core/estimator.hpp"
 
 namespace headingd::app {
 
@@ -15,7 +15,7 @@ class ConfigError : public std::runtime_error {
 };
 
 struct Config {
-  core::BiasSettings estimator = core::kDefaultBiasSettings;
+  core::EstimatorSettings estimator = core::kDefaultEstimatorSettings;
 };
 
 Config load_config(const std::string& path);

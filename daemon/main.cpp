@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   app::ReplayOptions replay;
   auto* replay_cmd = cli.add_subcommand("replay", "Replay a recorded IMU file through the estimator");
   replay_cmd->add_option("input", replay.input, "Recording: headingd CSV or EuRoC/ASL imu.csv")->required();
-  replay_cmd->add_option("--method", replay.method, "Bias method: a, b or c (paper's baselines)");
+  replay_cmd->add_option("--method", replay.method, "Bias method: auto (default), or the paper's a, b, c");
   replay_cmd->add_option("-o,--output", replay.output, "Estimates CSV ('-' = standard output)");
   replay_cmd->add_option("--output-rate", replay.output_rate_hz, "Rows per second; 0 = every sample")
       ->capture_default_str();

@@ -21,7 +21,6 @@ constexpr double kNominalRateHz = 400.0;  // sizes the writer's wait buffer only
 
 void print_summary(const drivers::SampleSource& source, const core::Estimator& estimator,
                    double first_t_s, double wall_s, std::uint64_t rows, const std::string& output) {
-  const auto& tracker = estimator.tracker();
   const auto& last = estimator.last();
   const double span_s = last.t_s - first_t_s;
   const auto samples = static_cast<double>(estimator.samples());
@@ -29,15 +28,28 @@ void print_summary(const drivers::SampleSource& source, const core::Estimator& e
   std::fprintf(stderr, "  samples      %llu over %.1f s (%.1f Hz)\n",
                static_cast<unsigned long long>(estimator.samples()), span_s,
                span_s > 0 ? (samples - 1.0) / span_s : 0.0);
-  std::fprintf(stderr, "  method       %s; segments of %.1f s: %llu accepted as still, %llu rejected\n",
-               std::string(core::method_name(tracker.settings().method)).c_str(), tracker.settings().segment_s,
-               static_cast<unsigned long long>(tracker.accepted_segments()),
-               static_cast<unsigned long long>(tracker.rejected_segments()));
-  const auto& sigma = tracker.sigma_still_dps();
+  std::fprintf(stderr, "  method       %s; segments up to %.1f s: %llu accepted as still, %llu rejected\n",
+               std::string(core::method_name(estimator.method())).c_str(), estimator.settings().segments.segment_s,
+               static_cast<unsigned long long>(estimator.accepted_segments()),
+               static_cast<unsigned long long>(estimator.rejected_segments()));
+  const auto sigma = estimator.sigma_still_dps();
   std::fprintf(stderr, "  sigma_still  x %.4f  y %.4f  z %.4f dps\n", sigma.x(), sigma.y(), sigma.z());
+  if (const auto* automatic = estimator.automatic()) {
+    const auto n = automatic->noise_density_dps_rt_hz();
+    std::fprintf(stderr, "  noise        x %.4f  y %.4f  z %.4f dps/sqrt(Hz) (angle random walk)\n", n.x(), n.y(), n.z());
+    const auto& model = automatic->temperature_model(2);
+    if (model.ready()) {
+      std::fprintf(stderr, "  temperature  z bias slope %+.5f dps/C over a %.1f C span (%u segments)\n",
+                   model.slope_dps_per_c(25.0), model.weighted_span_c(), model.points());
+    } else {
+      std::fprintf(stderr, "  temperature  model not in use yet (span %.1f C, %u segments)\n",
+                   model.weighted_span_c(), model.points());
+    }
+  }
   const auto& bias = last.bias_dps;
   std::fprintf(stderr, "  bias         x %+.4f  y %+.4f  z %+.4f dps\n", bias.x(), bias.y(), bias.z());
-  std::fprintf(stderr, "  heading      %+.3f deg at the end (unwrapped)\n", last.heading_deg);
+  std::fprintf(stderr, "  heading      %+.3f deg at the end (unwrapped), sigma %.3f deg\n", last.heading_deg,
+               last.heading_sigma_deg);
   std::fprintf(stderr, "  estimates    %llu rows to %s\n", static_cast<unsigned long long>(rows),
                output == "-" ? "standard output" : output.c_str());
   std::fprintf(stderr, "  speed        %.2f s wall, %.2f million samples/s, %.0fx real time\n", wall_s,
@@ -47,7 +59,7 @@ void print_summary(const drivers::SampleSource& source, const core::Estimator& e
 }  // namespace
 
 int run_replay(const ReplayOptions& options) {
-  core::BiasSettings settings = core::kDefaultBiasSettings;
+  core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
   try {
     if (options.config_path) settings = load_config(*options.config_path).estimator;
   } catch (const ConfigError& error) {
@@ -57,7 +69,7 @@ int run_replay(const ReplayOptions& options) {
   if (options.method) {
     const auto method = core::parse_method(*options.method);
     if (!method) {
-      std::fprintf(stderr, "headingd: --method: '%s' is not a method (use a, b or c)\n", options.method->c_str());
+      std::fprintf(stderr, "headingd: --method: '%s' is not a method (use auto, a, b or c)\n", options.method->c_str());
       return kExitUsage;
     }
     settings.method = *method;
@@ -87,7 +99,7 @@ int run_replay(const ReplayOptions& options) {
     CsvOut out(options.output);
     const double rows_per_second = options.output_rate_hz > 0 ? options.output_rate_hz : kNominalRateHz;
     EstimatesWriter writer(out, options.output_rate_hz,
-                           static_cast<std::size_t>(std::ceil(rows_per_second * settings.segment_s)));
+                           static_cast<std::size_t>(std::ceil(rows_per_second * settings.segments.segment_s)));
     std::vector<core::Sample> batch(kBatch);
     try {
       while (const std::size_t count = source->read(batch)) {

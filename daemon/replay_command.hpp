@@ -6,7 +6,7 @@ namespace headingd::app {
 
 struct ReplayOptions {
   std::string input;
-  std::optional<std::string> method;  // overrides the config file
+  std::optional<std::string> method;  // auto, a, b or c; overrides the config file
   std::string output = "-";           // estimates CSV; "-" is standard output
   double output_rate_hz = 10.0;       // 0: every sample
   std::optional<std::string> config_path;

@@ -32,11 +32,7 @@ class Signal {
   long index_ = 0;
 };
 
-BiasTracker tracker_for(Method method) {
-  BiasSettings settings;
-  settings.method = method;
-  return BiasTracker(settings);
-}
+BiasTracker tracker_for(Method method) { return BiasTracker(method, BiasSettings{}); }
 
 // Mean of 1200 samples with sigma 0.1: standard error 0.003 dps.
 constexpr double kTol = 0.015;
@@ -105,7 +101,7 @@ TEST(BiasTracker, SetBiasRestoresAndSeedsHistory) {
   BiasSettings settings;
   settings.still_at_start = false;
   settings.sigma_still_dps = Vec3(kNoise, kNoise, kNoise);
-  BiasTracker tracker(settings);
+  BiasTracker tracker(Method::C, settings);
   tracker.set_bias(Vec3(0.2, -0.1, -0.40));
   EXPECT_FALSE(tracker.in_startup());
   EXPECT_EQ(tracker.bias_dps(), Vec3(0.2, -0.1, -0.40));

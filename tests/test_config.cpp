@@ -35,19 +35,58 @@ still_at_start = false
 )",
                                     "test.toml");
   EXPECT_EQ(config.estimator.method, Method::B);
-  EXPECT_DOUBLE_EQ(config.estimator.segment_s, 2.5);
-  EXPECT_DOUBLE_EQ(config.estimator.k_range, 6.0);
-  EXPECT_DOUBLE_EQ(config.estimator.k_mean, 1.5);
-  EXPECT_EQ(config.estimator.n_means, 20u);
-  ASSERT_TRUE(config.estimator.sigma_still_dps.has_value());
-  EXPECT_DOUBLE_EQ(config.estimator.sigma_still_dps->z(), 0.1);
-  EXPECT_FALSE(config.estimator.still_at_start);
+  const auto& s = config.estimator.segments;
+  EXPECT_DOUBLE_EQ(s.segment_s, 2.5);
+  EXPECT_DOUBLE_EQ(s.k_range, 6.0);
+  EXPECT_DOUBLE_EQ(s.k_mean, 1.5);
+  EXPECT_EQ(s.n_means, 20u);
+  ASSERT_TRUE(s.sigma_still_dps.has_value());
+  EXPECT_DOUBLE_EQ(s.sigma_still_dps->z(), 0.1);
+  EXPECT_FALSE(s.still_at_start);
+}
+
+TEST(Config, ReadsAutoAndTemperatureTables) {
+  const auto config = parse_config(R"(
+[estimator]
+method = "auto"
+[estimator.auto]
+min_segment_s = 0.5
+k_range = 12
+k_mean = 4
+arw_dps_rt_hz = [0.1, 0.1, 0.011]
+bias_walk_dps_rt_s = 0.0002
+block_s = 0.05
+[estimator.temperature]
+enabled = false
+reference_c = 30
+half_life_h = 2
+min_span_c = 3
+quadratic_span_c = 20
+min_points = 5
+)",
+                                    "test.toml");
+  const auto& a = config.estimator.automatic;
+  EXPECT_EQ(config.estimator.method, Method::Auto);
+  EXPECT_DOUBLE_EQ(a.min_segment_s, 0.5);
+  EXPECT_DOUBLE_EQ(a.k_range, 12.0);
+  EXPECT_DOUBLE_EQ(a.k_mean, 4.0);
+  ASSERT_TRUE(a.arw_dps_rt_hz.has_value());
+  EXPECT_DOUBLE_EQ(a.arw_dps_rt_hz->z(), 0.011);
+  EXPECT_DOUBLE_EQ(a.bias_walk_dps_rt_s, 0.0002);
+  EXPECT_DOUBLE_EQ(a.block_s, 0.05);
+  EXPECT_FALSE(a.use_temperature);
+  EXPECT_DOUBLE_EQ(a.temperature.reference_c, 30.0);
+  EXPECT_DOUBLE_EQ(a.temperature.half_life_s, 7200.0);
+  EXPECT_EQ(a.temperature.min_points, 5u);
+  EXPECT_NE(error_of("[estimator.auto]\nk_men = 3\n").find("'estimator.auto.k_men' is not a known key"),
+            std::string::npos);
 }
 
 TEST(Config, EmptyFileKeepsDefaults) {
   const auto config = parse_config("", "test.toml");
-  EXPECT_EQ(config.estimator.method, Method::C);
-  EXPECT_DOUBLE_EQ(config.estimator.k_range, 7.0);
+  EXPECT_EQ(config.estimator.method, Method::Auto);
+  EXPECT_DOUBLE_EQ(config.estimator.segments.k_range, 7.0);
+  EXPECT_DOUBLE_EQ(config.estimator.automatic.k_mean, 3.5);
 }
 
 TEST(Config, WrongTypeNamesKeyLineAndValue) {
@@ -62,7 +101,7 @@ TEST(Config, OutOfRangeNamesAllowedRange) {
   EXPECT_NE(message.find("test.toml:2:"), std::string::npos) << message;
   EXPECT_NE(message.find("'estimator.segment_s' is -3, allowed (0, 600]"), std::string::npos) << message;
   EXPECT_NE(error_of("[estimator]\nn_means = 1000\n").find("allowed [1, 64]"), std::string::npos);
-  EXPECT_NE(error_of("[estimator]\nmethod = \"z\"\n").find("allowed \"a\", \"b\" or \"c\""), std::string::npos);
+  EXPECT_NE(error_of("[estimator]\nmethod = \"z\"\n").find("allowed \"auto\", \"a\", \"b\" or \"c\""), std::string::npos);
 }
 
 TEST(Config, UnknownKeyAndSectionRejected) {

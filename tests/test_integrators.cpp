@@ -54,7 +54,9 @@ TEST(AttitudeIntegrator, ForwardAndBackReturnsToStart) {
 }
 
 TEST(Estimator, HoldsHeadingDuringStartupThenIntegratesBiasCorrectedRate) {
-  Estimator estimator;
+  EstimatorSettings settings;
+  settings.method = Method::C;
+  Estimator estimator(settings);
   Sample s;
   s.rate_dps = Vec3(0.1, 0.2, -0.5);
   int i = 0;

@@ -12,7 +12,7 @@ using namespace headingd;
 namespace {
 
 core::HeadingMetrics run(core::Method method, std::uint64_t seed) {
-  core::BiasSettings settings;
+  core::EstimatorSettings settings;
   settings.method = method;
   core::Estimator estimator(settings);
   drivers::GyroSimulator sim(*drivers::build_scenario("paper12h", seed, 2.0), seed);

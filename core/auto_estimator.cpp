@@ -1,0 +1,261 @@
+#include "core/auto_estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/units.hpp"
+
+namespace headingd::core {
+namespace {
+
+constexpr double kTimeEpsilonS = 1e-9;
+constexpr double kMinSigmaStillDps = 1e-6;
+// Before anything is known the bias could be anywhere within the chip's zero-rate level
+// (datasheet: +-25 dps at 2000 dps full scale; a few dps at 245 dps in practice).
+constexpr double kUnknownBiasSigmaDps = 2.0;
+
+}  // namespace
+
+AutoEstimator::AutoEstimator(const BiasSettings& segments, const AutoSettings& settings)
+    : segments_(segments),
+      settings_(settings),
+      temperature_{TemperatureModel(settings.temperature), TemperatureModel(settings.temperature),
+                   TemperatureModel(settings.temperature)},
+      walk_dps2_per_s_(settings.bias_walk_dps_rt_s * settings.bias_walk_dps_rt_s),
+      in_startup_(segments.still_at_start) {
+  segment_.blocks = BlockMeans(settings_.block_s);
+  if (segments_.sigma_still_dps) sigma_still_dps_ = *segments_.sigma_still_dps;
+  if (settings_.arw_dps_rt_hz) white_dps2_s_ = settings_.arw_dps_rt_hz->cwiseAbs2();
+  if (!in_startup_) {
+    for (auto& filter : filters_) filter.reset(0.0, kUnknownBiasSigmaDps * kUnknownBiasSigmaDps);
+  }
+}
+
+void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
+  for (int axis = 0; axis < 3; ++axis) {
+    auto state = filters_[static_cast<std::size_t>(axis)].state();
+    state.bias_dps = bias_dps[axis];
+    state.covariance(1, 1) = sigma_dps[axis] * sigma_dps[axis];
+    state.covariance(0, 1) = state.covariance(1, 0) = 0.0;
+    filters_[static_cast<std::size_t>(axis)].restore(state);
+  }
+  in_startup_ = false;
+}
+
+void AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
+  if (variance_deg2 <= 0.0) {
+    filters_[2].set_angle(heading_deg);
+    auto state = filters_[2].state();
+    state.covariance(0, 0) = 0.0;
+    state.covariance(0, 1) = state.covariance(1, 0) = 0.0;
+    filters_[2].restore(state);
+  } else {
+    filters_[2].measure_angle(heading_deg, variance_deg2);
+  }
+  // The segment under way must not take this back if it turns out still.
+  segment_.filters_at_start[2] = filters_[2].state();
+}
+
+void AutoEstimator::begin_segment(double t_s) {
+  segment_.stats.reset();
+  segment_.blocks.reset();
+  segment_.duration_s = 0.0;
+  segment_.temp_sum_c = 0.0;
+  segment_.temp_count = 0;
+  segment_.start_t_s = t_s;
+  for (std::size_t axis = 0; axis < 3; ++axis) segment_.filters_at_start[axis] = filters_[axis].state();
+  segment_.attitude_at_start = attitude_.attitude();
+  segment_.temperature_shift_dps.setZero();
+  segment_.temperature_shift_var.setZero();
+}
+
+void AutoEstimator::add_to_segment(const Sample& sample, double dt_s) {
+  segment_.stats.add(sample.rate_dps);
+  segment_.blocks.add(sample.rate_dps, dt_s);
+  segment_.duration_s += dt_s;
+  if (std::isfinite(sample.temp_c)) {
+    segment_.temp_sum_c += sample.temp_c;
+    ++segment_.temp_count;
+  }
+}
+
+bool AutoEstimator::range_gate_trips(const Vec3& rate_dps) const {
+  if (segment_.stats.count() == 0) return false;
+  const Vec3 low = segment_.stats.min_dps().cwiseMin(rate_dps);
+  const Vec3 high = segment_.stats.max_dps().cwiseMax(rate_dps);
+  return ((high - low).array() > settings_.k_range * sigma_still_dps_.array()).any();
+}
+
+SegmentVerdict AutoEstimator::close_startup() {
+  in_startup_ = false;
+  SegmentVerdict verdict{.closed = true, .index = segment_index_, .range_ok = true, .mean_ok = true, .accepted = true};
+  const auto& stats = segment_.stats;
+  if (!segments_.sigma_still_dps) sigma_still_dps_ = stats.sigma_dps().cwiseMax(kMinSigmaStillDps);
+  const double duration_s = std::max(segment_.duration_s, kTimeEpsilonS);
+  if (!settings_.arw_dps_rt_hz) {
+    pooled_noise_.add(segment_.blocks);
+    // With too few blocks, fall back to treating samples as white: N^2 = sigma^2 * dt.
+    const double dt_s = duration_s / std::max<double>(1.0, stats.count());
+    const Vec3 white_floor = stats.sigma_dps().cwiseAbs2() * dt_s;
+    white_dps2_s_ = pooled_noise_.known() ? pooled_noise_.density_squared().cwiseMax(white_floor) : white_floor;
+  }
+  const Vec3 r = white_dps2_s_ / duration_s;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    filters_[axis].reset(stats.mean_dps()[static_cast<Eigen::Index>(axis)], r[static_cast<Eigen::Index>(axis)]);
+    if (segment_.temp_count > 0) {
+      temperature_[axis].add(segment_.start_t_s + 0.5 * duration_s, segment_.temp_sum_c / segment_.temp_count,
+                             stats.mean_dps()[static_cast<Eigen::Index>(axis)], r[static_cast<Eigen::Index>(axis)]);
+    }
+  }
+  ++accepted_;
+  last_still_t_s_ = segment_.start_t_s + duration_s;
+  return verdict;
+}
+
+SegmentVerdict AutoEstimator::close_segment() {
+  SegmentVerdict verdict{.closed = true, .index = segment_index_};
+  const double duration_s = segment_.duration_s;
+  const bool long_enough = duration_s + kTimeEpsilonS >= settings_.min_segment_s && segment_.stats.count() >= 2;
+  verdict.range_ok = long_enough;  // the gate held on every sample of the segment
+  if (!long_enough) {
+    ++cut_;
+    return verdict;
+  }
+  const Vec3 mean = segment_.stats.mean_dps();
+  if (white_dps2_s_.isZero()) {
+    // Restored without a start-up segment and no configured density: treat samples as white.
+    white_dps2_s_ = segment_.stats.sigma_dps().cwiseAbs2() * (duration_s / segment_.stats.count());
+  }
+  const Vec3 r = white_dps2_s_ / duration_s;
+  bool mean_ok = true;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    const double predicted = filters_[axis].bias_dps();
+    const double sd = std::sqrt(filters_[axis].bias_variance() + r[a]);
+    mean_ok = mean_ok && std::abs(mean[a] - predicted) <= settings_.k_mean * sd;
+  }
+  verdict.mean_ok = mean_ok;
+  verdict.accepted = hint_ != MotionHint::Moving && (mean_ok || hint_ == MotionHint::Stopped);
+  if (verdict.accepted) {
+    accept_still(mean, r, segment_.start_t_s + duration_s);
+    ++accepted_;
+  } else {
+    ++rejected_;
+  }
+  return verdict;
+}
+
+void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double end_t_s) {
+  // Zero-rate update: the platform did not turn during the segment, so take back what was
+  // integrated over it, let only the bias drift, then measure the bias with the mean.
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    filters_[axis].restore(segment_.filters_at_start[axis]);
+    filters_[axis].let_bias_drift(segment_.duration_s, walk_dps2_per_s_);
+    filters_[axis].shift_bias(segment_.temperature_shift_dps[a], segment_.temperature_shift_var[a]);
+    filters_[axis].measure_bias(mean_dps[a], r_dps2[a]);
+  }
+  // The attitude goes back to the segment's start, turned about the vertical by the heading
+  // correction the bias measurement made to the time before.
+  const double yaw_correction_deg = filters_[2].angle_deg() - segment_.filters_at_start[2].angle_deg;
+  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) *
+                         segment_.attitude_at_start);
+
+  if (segment_.temp_count > 0) {
+    const double temp_c = segment_.temp_sum_c / segment_.temp_count;
+    const double mid_t_s = segment_.start_t_s + 0.5 * segment_.duration_s;
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      const auto a = static_cast<Eigen::Index>(axis);
+      temperature_[axis].add(mid_t_s, temp_c, mean_dps[a], r_dps2[a]);
+    }
+  }
+  if (!settings_.arw_dps_rt_hz) {
+    pooled_noise_.add(segment_.blocks);
+    if (pooled_noise_.known()) white_dps2_s_ = pooled_noise_.density_squared();
+  }
+  last_still_t_s_ = end_t_s;
+}
+
+void AutoEstimator::follow_temperature(double temp_c) {
+  if (!settings_.use_temperature || !std::isfinite(temp_c) || !std::isfinite(previous_temp_c_)) return;
+  const double delta_c = temp_c - previous_temp_c_;
+  if (delta_c == 0.0) return;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto& model = temperature_[axis];
+    if (!model.ready()) continue;
+    const double shift = model.slope_dps_per_c(temp_c) * delta_c;
+    const double variance = model.slope_variance() * delta_c * delta_c;
+    filters_[axis].shift_bias(shift, variance);
+    segment_.temperature_shift_dps[static_cast<Eigen::Index>(axis)] += shift;
+    segment_.temperature_shift_var[static_cast<Eigen::Index>(axis)] += variance;
+  }
+}
+
+const Estimate& AutoEstimator::update(const Sample& sample) {
+  estimate_.closed = SegmentVerdict{};
+  if (!started_) {
+    started_ = true;
+    previous_t_s_ = sample.t_s;
+    previous_temp_c_ = sample.temp_c;
+    begin_segment(sample.t_s);
+    add_to_segment(sample, 0.0);
+    fill_estimate(sample);
+    return estimate_;
+  }
+  const double dt_s = sample.t_s - previous_t_s_;
+  previous_t_s_ = sample.t_s;
+
+  if (in_startup_) {
+    if (sample.t_s - segment_.start_t_s >= segments_.segment_s - kTimeEpsilonS) {
+      estimate_.closed = close_startup();
+      ++segment_index_;
+      begin_segment(sample.t_s);
+    } else {
+      add_to_segment(sample, dt_s);
+      previous_temp_c_ = sample.temp_c;
+      fill_estimate(sample);
+      return estimate_;
+    }
+  } else {
+    follow_temperature(sample.temp_c);
+    const bool full = sample.t_s - segment_.start_t_s >= segments_.segment_s - kTimeEpsilonS;
+    if (full || range_gate_trips(sample.rate_dps)) {
+      estimate_.closed = close_segment();
+      ++segment_index_;
+      begin_segment(sample.t_s);
+    }
+  }
+  previous_temp_c_ = sample.temp_c;
+
+  add_to_segment(sample, dt_s);
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    filters_[axis].propagate(sample.rate_dps[a], dt_s, white_dps2_s_[a], walk_dps2_per_s_);
+  }
+  const Vec3 bias(filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps());
+  attitude_.add(sample.rate_dps - bias, dt_s);
+  fill_estimate(sample);
+  return estimate_;
+}
+
+void AutoEstimator::fill_estimate(const Sample& sample) {
+  const Vec3 bias(filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps());
+  estimate_.t_s = sample.t_s;
+  estimate_.heading_deg = filters_[2].angle_deg();
+  estimate_.attitude = attitude_.attitude();
+  estimate_.bias_dps = bias;
+  estimate_.rate_dps = sample.rate_dps - bias;
+  if (in_startup_) {
+    estimate_.heading_sigma_deg = 0.0;  // held by assumption: the platform is still
+    estimate_.bias_sigma_dps = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  } else {
+    estimate_.heading_sigma_deg = std::sqrt(std::max(0.0, filters_[2].angle_variance()));
+    for (std::size_t axis = 0; axis < 3; ++axis)
+      estimate_.bias_sigma_dps[static_cast<Eigen::Index>(axis)] = std::sqrt(std::max(0.0, filters_[axis].bias_variance()));
+  }
+  estimate_.in_startup = in_startup_;
+  estimate_.segment_index = segment_index_;
+}
+
+}  // namespace headingd::core

@@ -1,0 +1,96 @@
+#pragma once
+// headingd's own estimator (method `auto`), built on the paper's segments but testing them
+// on the right scale:
+//  - a range gate on every sample (cuts a segment the moment motion or vibration starts, so
+//    a stop is used from its first second, and stops of min_segment_s count);
+//  - a mean test against the Kalman-predicted bias with the mean's own uncertainty, which
+//    sees creep of a few hundredths of a dps that the paper's criteria absorb into the bias;
+//  - per axis a Kalman filter on (angle, bias): an accepted still segment is a bias
+//    measurement and a zero-rate update (the heading integrated over it is taken back);
+//  - a bias-versus-temperature model that carries the bias while the platform drives;
+//  - honest uncertainty: heading variance from white noise and bias uncertainty.
+#include <array>
+#include <cstdint>
+
+#include "core/attitude_integrator.hpp"
+#include "core/axis_filter.hpp"
+#include "core/auto_settings.hpp"
+#include "core/bias_tracker.hpp"
+#include "core/estimate.hpp"
+#include "core/noise_density.hpp"
+#include "core/segment_stats.hpp"
+#include "core/temperature_model.hpp"
+
+namespace headingd::core {
+
+class AutoEstimator {
+ public:
+  // `segments` supplies segment_s, sigma_still_dps and still_at_start.
+  AutoEstimator(const BiasSettings& segments, const AutoSettings& settings);
+
+  const Estimate& update(const Sample& sample);
+  const Estimate& last() const { return estimate_; }
+
+  void set_motion_hint(MotionHint hint) { hint_ = hint; }
+  // Restores a bias (after a restart) with its sigma; ends the start-up phase.
+  void set_bias(const Vec3& bias_dps, const Vec3& sigma_dps);
+  // A heading fix at a reference point, with its variance.
+  void set_heading(double heading_deg, double variance_deg2);
+
+  bool in_startup() const { return in_startup_; }
+  const Vec3& sigma_still_dps() const { return sigma_still_dps_; }
+  Vec3 noise_density_dps_rt_hz() const { return white_dps2_s_.cwiseSqrt(); }
+  const TemperatureModel& temperature_model(int axis) const { return temperature_[static_cast<std::size_t>(axis)]; }
+  std::uint64_t accepted_segments() const { return accepted_; }
+  std::uint64_t rejected_segments() const { return rejected_; }  // long enough, failed the mean test
+  std::uint64_t cut_segments() const { return cut_; }            // cut by motion before min_segment_s
+  double last_still_t_s() const { return last_still_t_s_; }
+
+ private:
+  struct Segment {
+    SegmentStats stats;
+    BlockMeans blocks{0.1};
+    double duration_s = 0.0;
+    double temp_sum_c = 0.0;
+    std::uint32_t temp_count = 0;
+    double start_t_s = 0.0;
+    std::array<AxisFilter::State, 3> filters_at_start{};
+    Eigen::Quaterniond attitude_at_start = Eigen::Quaterniond::Identity();
+    Vec3 temperature_shift_dps = Vec3::Zero();  // bias moved by the temperature model meanwhile
+    Vec3 temperature_shift_var = Vec3::Zero();
+  };
+
+  void begin_segment(double t_s);
+  void add_to_segment(const Sample& sample, double dt_s);
+  bool range_gate_trips(const Vec3& rate_dps) const;
+  SegmentVerdict close_startup();
+  SegmentVerdict close_segment();
+  void accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double t_s);
+  void follow_temperature(double temp_c);
+  void fill_estimate(const Sample& sample);
+
+  BiasSettings segments_;
+  AutoSettings settings_;
+  std::array<AxisFilter, 3> filters_{};
+  std::array<TemperatureModel, 3> temperature_;
+  AttitudeIntegrator attitude_;
+  NoiseDensity pooled_noise_;
+  Segment segment_;
+  Estimate estimate_;
+  MotionHint hint_ = MotionHint::None;
+
+  Vec3 sigma_still_dps_ = Vec3::Zero();
+  Vec3 white_dps2_s_ = Vec3::Zero();  // N^2 per axis
+  double walk_dps2_per_s_ = 0.0;      // q
+  bool started_ = false;
+  bool in_startup_ = true;
+  double previous_t_s_ = 0.0;
+  double previous_temp_c_ = 0.0;
+  std::uint64_t segment_index_ = 0;
+  std::uint64_t accepted_ = 0;
+  std::uint64_t rejected_ = 0;
+  std::uint64_t cut_ = 0;
+  double last_still_t_s_ = 0.0;
+};
+
+}  // namespace headingd::core

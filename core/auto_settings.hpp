@@ -1,0 +1,36 @@
+#pragma once
+// Settings of headingd's own estimator, method `auto` (see auto_estimator.hpp).
+#include <optional>
+
+#include "core/sample.hpp"
+#include "core/temperature_model.hpp"
+
+namespace headingd::core {
+
+struct AutoSettings {
+  // Shortest still period that counts, s: a stop interrupted by motion after this long is
+  // still used (the paper's fixed 3 s grid wastes most short stops).
+  double min_segment_s = 1.0;
+  // Range gate, checked on every sample against k_range * sigma_still: the fast first test
+  // that cuts a segment the moment the platform moves or vibrates. Looser than the paper's 7,
+  // which rejects about half of truly still 3 s segments on three axes.
+  double k_range = 10.0;
+  // Mean test: a segment is still when |mean - predicted bias| <= k_mean * sqrt(P + N^2/T) on
+  // every axis (P: bias variance, N: white-noise density, T: segment length). The mean of a
+  // still 3 s segment has a sigma of about N/sqrt(3 s) ~ 0.006 dps, so creep of a few
+  // hundredths of a dps stands out.
+  double k_mean = 3.5;
+  // Angle random walk per axis, dps/sqrt(Hz) (`headingd allan --emit-config`). Unset: measured
+  // from the start-up segment's block means, then refined from every accepted segment.
+  std::optional<Vec3> arw_dps_rt_hz;
+  // Bias random walk, dps/sqrt(s): how fast the bias may wander between still segments
+  // (the Kalman process noise). Default: a bias instability of ~3.6 deg/h reached in ~100 s.
+  double bias_walk_dps_rt_s = 1e-4;
+  double block_s = 0.1;  // block length of the noise-density estimate, s
+  bool use_temperature = true;
+  TemperatureModelSettings temperature = kDefaultTemperatureModelSettings;
+};
+
+inline constexpr AutoSettings kDefaultAutoSettings{};
+
+}  // namespace headingd::core

@@ -1,0 +1,58 @@
+#include "core/axis_filter.hpp"
+
+namespace headingd::core {
+
+void AxisFilter::reset(double bias_dps, double bias_variance_dps2) {
+  state_ = State{};
+  state_.bias_dps = bias_dps;
+  state_.covariance(1, 1) = bias_variance_dps2;
+}
+
+void AxisFilter::propagate(double rate_dps, double dt_s, double white_dps2_s, double walk_dps2_per_s) {
+  state_.angle_deg += (rate_dps - state_.bias_dps) * dt_s;
+  Eigen::Matrix2d& p = state_.covariance;
+  // P <- F P F' + Q with F = [1, -dt; 0, 1].
+  const double p00 = p(0, 0) - 2.0 * dt_s * p(0, 1) + dt_s * dt_s * p(1, 1) + white_dps2_s * dt_s;
+  const double p01 = p(0, 1) - dt_s * p(1, 1);
+  p(0, 0) = p00;
+  p(0, 1) = p(1, 0) = p01;
+  p(1, 1) += walk_dps2_per_s * dt_s;
+}
+
+void AxisFilter::let_bias_drift(double dt_s, double walk_dps2_per_s) {
+  state_.covariance(1, 1) += walk_dps2_per_s * dt_s;
+}
+
+void AxisFilter::shift_bias(double delta_dps, double variance_dps2) {
+  state_.bias_dps += delta_dps;
+  state_.covariance(1, 1) += variance_dps2;
+}
+
+double AxisFilter::measure_bias(double mean_dps, double r_dps2) {
+  Eigen::Matrix2d& p = state_.covariance;
+  const double innovation = mean_dps - state_.bias_dps;
+  const double s = p(1, 1) + r_dps2;
+  const Eigen::Vector2d gain(p(0, 1) / s, p(1, 1) / s);
+  state_.angle_deg += gain(0) * innovation;
+  state_.bias_dps += gain(1) * innovation;
+  // Joseph-free form is fine here: the gain is optimal and the state is two-dimensional;
+  // symmetrise to keep rounding from breaking positive definiteness over months.
+  const Eigen::RowVector2d h_p = p.row(1);
+  p -= gain * h_p;
+  p = 0.5 * (p + p.transpose()).eval();
+  return innovation;
+}
+
+void AxisFilter::measure_angle(double angle_deg, double r_deg2) {
+  Eigen::Matrix2d& p = state_.covariance;
+  const double innovation = angle_deg - state_.angle_deg;
+  const double s = p(0, 0) + r_deg2;
+  const Eigen::Vector2d gain(p(0, 0) / s, p(1, 0) / s);
+  state_.angle_deg += gain(0) * innovation;
+  state_.bias_dps += gain(1) * innovation;
+  const Eigen::RowVector2d h_p = p.row(0);
+  p -= gain * h_p;
+  p = 0.5 * (p + p.transpose()).eval();
+}
+
+}  // namespace headingd::core

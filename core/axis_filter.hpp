@@ -1,0 +1,47 @@
+#pragma once
+// A two-state Kalman filter per gyro axis: the integrated angle and the bias.
+//
+//   angle_{k+1} = angle_k + (rate_k - bias_k) * dt     process noise: white rate noise N^2 dt
+//   bias_{k+1}  = bias_k  (+ a known input)            process noise: bias random walk q dt
+//
+// The cross-covariance matters: an angle integrated while the bias was wrong is correlated
+// with that bias error, so when a still segment measures the bias, the same update also
+// corrects the angle integrated since the last one.
+#include <Eigen/Core>
+
+namespace headingd::core {
+
+class AxisFilter {
+ public:
+  struct State {
+    double angle_deg = 0.0;
+    double bias_dps = 0.0;
+    Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();  // [angle deg^2, ...; ..., bias dps^2]
+  };
+
+  void reset(double bias_dps, double bias_variance_dps2);
+  // Integrates one sample: white_dps2_s = N^2 (N in dps/sqrt(Hz)), walk_dps2_per_s = q.
+  void propagate(double rate_dps, double dt_s, double white_dps2_s, double walk_dps2_per_s);
+  // Lets time pass while the angle is known not to change (a still segment): only the bias
+  // may drift.
+  void let_bias_drift(double dt_s, double walk_dps2_per_s);
+  // A known change of the bias (temperature model), with its variance.
+  void shift_bias(double delta_dps, double variance_dps2);
+  // The mean of a still segment measures the bias with variance r. Returns the innovation.
+  double measure_bias(double mean_dps, double r_dps2);
+  // An external fix of the angle (heading at a reference point) with variance r.
+  void measure_angle(double angle_deg, double r_deg2);
+  void set_angle(double angle_deg) { state_.angle_deg = angle_deg; }
+
+  const State& state() const { return state_; }
+  void restore(const State& state) { state_ = state; }
+  double angle_deg() const { return state_.angle_deg; }
+  double bias_dps() const { return state_.bias_dps; }
+  double angle_variance() const { return state_.covariance(0, 0); }
+  double bias_variance() const { return state_.covariance(1, 1); }
+
+ private:
+  State state_;
+};
+
+}  // namespace headingd::core

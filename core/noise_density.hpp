@@ -1,0 +1,46 @@
+#pragma once
+// White-noise density N (dps/sqrt(Hz)) from block means: for white rate noise the mean of a
+// block of length T_b has variance N^2 / T_b, however the chip's low-pass has coloured the
+// individual samples. Accumulates per segment; pooled across accepted segments.
+#include <cstdint>
+
+#include "core/sample.hpp"
+
+namespace headingd::core {
+
+class BlockMeans {
+ public:
+  explicit BlockMeans(double block_s) : block_s_(block_s) {}
+
+  void reset();
+  void add(const Vec3& rate_dps, double dt_s);
+  std::uint32_t blocks() const { return blocks_; }
+  // Sum of squared deviations of the block means from their mean, per axis.
+  const Vec3& squares() const { return m2_; }
+  double block_s() const { return block_s_; }
+
+ private:
+  double block_s_;
+  Vec3 sum_ = Vec3::Zero();
+  double filled_s_ = 0.0;
+  std::uint32_t samples_ = 0;
+  std::uint32_t blocks_ = 0;
+  Vec3 mean_ = Vec3::Zero();
+  Vec3 m2_ = Vec3::Zero();
+};
+
+class NoiseDensity {
+ public:
+  // Adds one still segment's block statistics (needs at least three blocks).
+  void add(const BlockMeans& blocks);
+  bool known() const { return dof_ > 0.0; }
+  // N^2 per axis, dps^2/Hz (= dps^2 s).
+  Vec3 density_squared() const;
+  double degrees_of_freedom() const { return dof_; }
+
+ private:
+  Vec3 squares_ = Vec3::Zero();  // sum over segments of block-mean squares times block length
+  double dof_ = 0.0;
+};
+
+}  // namespace headingd::core

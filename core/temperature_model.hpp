@@ -1,0 +1,63 @@
+#pragma once
+// Bias against temperature, learned online from accepted still segments (Android's sensor
+// hub does the same): weighted least squares of bias = c0 + c1 dT (+ c2 dT^2), dT = T - T_ref,
+// with exponential ageing so that old points fade (the chip's trim and mounting stress move).
+// One model per axis; the estimator uses its slope to carry the bias across temperature
+// changes while the platform drives.
+#include <cstdint>
+
+#include <Eigen/Core>
+
+namespace headingd::core {
+
+struct TemperatureModelSettings {
+  double reference_c = 25.0;       // T_ref, degC: keeps the normal equations well conditioned
+  double half_life_s = 6 * 3600.0; // a point's weight halves in this time, s
+  double min_span_c = 2.0;         // weighted temperature spread needed before the slope is used, degC
+  double quadratic_span_c = 15.0;  // spread above which the quadratic term is fitted, degC
+  std::uint32_t min_points = 8;    // accepted segments needed before the slope is used
+};
+
+inline constexpr TemperatureModelSettings kDefaultTemperatureModelSettings{};
+
+class TemperatureModel {
+ public:
+  explicit TemperatureModel(const TemperatureModelSettings& settings = kDefaultTemperatureModelSettings);
+
+  // One accepted segment: its mean bias (dps) at its mean temperature (degC), at time t_s.
+  // measurement_variance is that mean's variance (dps^2).
+  void add(double t_s, double temp_c, double bias_dps, double measurement_variance);
+
+  bool ready() const { return ready_; }
+  // d bias / d T at temp_c (dps per degC) and its variance; zero slope while not ready.
+  double slope_dps_per_c(double temp_c) const;
+  double slope_variance() const { return slope_variance_; }
+  double predict_dps(double temp_c) const;  // bias at temp_c (valid only when ready)
+  Eigen::Vector3d coefficients() const { return coefficients_; }
+  double weighted_span_c() const;
+  std::uint32_t points() const { return points_; }
+
+  // For persistence: the ageing sums themselves.
+  struct Sums {
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();  // sum w phi phi'
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();      // sum w phi y
+    double yy = 0.0;                                     // sum w y^2
+    double weight = 0.0;                                 // sum w
+    double last_t_s = 0.0;
+  };
+  const Sums& sums() const { return sums_; }
+  void restore(const Sums& sums, std::uint32_t points);
+
+ private:
+  void solve();
+
+  TemperatureModelSettings settings_;
+  Sums sums_;
+  std::uint32_t points_ = 0;
+  bool ready_ = false;
+  Eigen::Vector3d coefficients_ = Eigen::Vector3d::Zero();
+  double slope_variance_ = 0.0;
+  double noise_variance_ = 0.0;  // typical measurement variance, weighted
+};
+
+}  // namespace headingd::core
