@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "core/units.hpp"
 
@@ -120,6 +121,7 @@ SegmentVerdict AutoEstimator::close_segment() {
   verdict.range_ok = long_enough;  // the gate held on every sample of the segment
   if (!long_enough) {
     ++cut_;
+    previous_.usable = false;
     return verdict;
   }
   const Vec3 mean = segment_.stats.mean_dps();
@@ -135,15 +137,61 @@ SegmentVerdict AutoEstimator::close_segment() {
     const double sd = std::sqrt(filters_[axis].bias_variance() + r[a]);
     mean_ok = mean_ok && std::abs(mean[a] - predicted) <= settings_.k_mean * sd;
   }
+  if (previous_.usable) {
+    const double pooled_s = duration_s + previous_.duration_s;
+    for (Eigen::Index a = 0; a < 3; ++a) {
+      const double pooled_mean = (mean[a] * duration_s + previous_.mean_dps[a] * previous_.duration_s) / pooled_s;
+      const double sd = std::sqrt(previous_.predicted_var[a] + walk_dps2_per_s_ * pooled_s + white_dps2_s_[a] / pooled_s);
+      mean_ok = mean_ok && std::abs(pooled_mean - previous_.predicted_dps[a]) <= settings_.k_mean_pooled * sd;
+    }
+  }
   verdict.mean_ok = mean_ok;
+  // Kept for the next segment's pooled test, which applies only if no cut comes between.
+  previous_.usable = true;
+  previous_.mean_dps = mean;
+  previous_.duration_s = duration_s;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    previous_.predicted_dps[static_cast<Eigen::Index>(axis)] = filters_[axis].bias_dps();
+    previous_.predicted_var[static_cast<Eigen::Index>(axis)] = filters_[axis].bias_variance();
+  }
   verdict.accepted = hint_ != MotionHint::Moving && (mean_ok || hint_ == MotionHint::Stopped);
+  const double deviation_z = mean.z() - filters_[2].bias_dps();
+  const double sd_z = std::sqrt(filters_[2].bias_variance() + r.z());
   if (verdict.accepted) {
     accept_still(mean, r, segment_.start_t_s + duration_s);
+    if (hint_ != MotionHint::Stopped) add_verdict_doubt(deviation_z, sd_z, duration_s, true);
     ++accepted_;
   } else {
+    if (hint_ != MotionHint::Moving) add_verdict_doubt(deviation_z, sd_z, duration_s, false);
     ++rejected_;
   }
   return verdict;
+}
+
+void AutoEstimator::add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted) {
+  // Likelihood of the observed deviation if still (Gaussian) and if turning slowly (flat).
+  const double z = deviation_dps / sd_dps;
+  const double still = (1.0 - settings_.creep_prior) * std::exp(-0.5 * z * z) / (sd_dps * std::sqrt(2.0 * std::numbers::pi));
+  // Flat, and not cut off beyond the span: a fast turn must never look still by default.
+  const double turning = settings_.creep_prior / (2.0 * settings_.creep_span_dps);
+  const double p_wrong = (accepted ? turning : still) / (still + turning);
+  // The heading takes the posterior mean of the turn over the segment instead of the hard
+  // verdict's all or nothing, and the variance of that two-point posterior.
+  const double angle_deg = deviation_dps * duration_s;
+  const double soft = settings_.soft_verdicts ? p_wrong : 0.0;
+  const double correction_deg = accepted ? soft * angle_deg : -soft * angle_deg;
+  auto state = filters_[2].state();
+  state.angle_deg += correction_deg;
+  state.covariance(0, 0) += p_wrong * (1.0 - p_wrong) * angle_deg * angle_deg;
+  filters_[2].restore(state);
+  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(correction_deg), Vec3::UnitZ()) * attitude_.attitude());
+}
+
+void AutoEstimator::track_vibration(const Vec3& rate_dps, double dt_s) {
+  const double diff = rate_dps.z() - previous_rate_z_dps_;
+  previous_rate_z_dps_ = rate_dps.z();
+  const double weight = std::min(1.0, dt_s / settings_.vibration_tau_s);
+  diff_var_z_ += weight * (diff * diff - diff_var_z_);
 }
 
 void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double end_t_s) {
@@ -220,8 +268,10 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
   } else {
     follow_temperature(sample.temp_c);
     const bool full = sample.t_s - segment_.start_t_s >= segments_.segment_s - kTimeEpsilonS;
-    if (full || range_gate_trips(sample.rate_dps)) {
+    const bool trips = !full && range_gate_trips(sample.rate_dps);
+    if (full || trips) {
       estimate_.closed = close_segment();
+      if (trips) previous_.usable = false;  // motion came between
       ++segment_index_;
       begin_segment(sample.t_s);
     }
@@ -229,9 +279,14 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
   previous_temp_c_ = sample.temp_c;
 
   add_to_segment(sample, dt_s);
+  track_vibration(sample.rate_dps, dt_s);
+  // Vibration is white at the sample rate: half the variance of sample differences, times
+  // dt, is its density squared. Still, the chip's own noise (N^2) dominates.
+  const double vibration_dps2_s = 0.5 * diff_var_z_ * dt_s;
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
-    filters_[axis].propagate(sample.rate_dps[a], dt_s, white_dps2_s_[a], walk_dps2_per_s_);
+    const double white = axis == 2 ? std::max(white_dps2_s_[a], vibration_dps2_s) : white_dps2_s_[a];
+    filters_[axis].propagate(sample.rate_dps[a], dt_s, white, walk_dps2_per_s_);
   }
   const Vec3 bias(filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps());
   attitude_.add(sample.rate_dps - bias, dt_s);

@@ -67,9 +67,23 @@ class AutoEstimator {
   SegmentVerdict close_segment();
   void accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double t_s);
   void follow_temperature(double temp_c);
+  // Adds the variance of a possibly wrong still/moving verdict (see AutoSettings).
+  void add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted);
+  void track_vibration(const Vec3& rate_dps, double dt_s);
   void fill_estimate(const Sample& sample);
 
+  // The previous segment, kept for a pooled test over two: creep too slow to show in one
+  // segment's mean shows in two (the threshold falls with sqrt(T)).
+  struct Previous {
+    bool usable = false;  // long enough, and this segment follows it without a cut
+    Vec3 mean_dps = Vec3::Zero();
+    double duration_s = 0.0;
+    Vec3 predicted_dps = Vec3::Zero();  // bias predicted before it was judged
+    Vec3 predicted_var = Vec3::Zero();
+  };
+
   BiasSettings segments_;
+  Previous previous_;
   AutoSettings settings_;
   std::array<AxisFilter, 3> filters_{};
   std::array<TemperatureModel, 3> temperature_;
@@ -82,6 +96,8 @@ class AutoEstimator {
   Vec3 sigma_still_dps_ = Vec3::Zero();
   Vec3 white_dps2_s_ = Vec3::Zero();  // N^2 per axis
   double walk_dps2_per_s_ = 0.0;      // q
+  double diff_var_z_ = 0.0;            // running mean of squared z sample differences, dps^2
+  double previous_rate_z_dps_ = 0.0;
   bool started_ = false;
   bool in_startup_ = true;
   double previous_t_s_ = 0.0;

@@ -20,6 +20,9 @@ struct AutoSettings {
   // still 3 s segment has a sigma of about N/sqrt(3 s) ~ 0.006 dps, so creep of a few
   // hundredths of a dps stands out.
   double k_mean = 3.5;
+  // The same test on the mean of this segment and the one before it (when no motion came
+  // between), against the bias predicted before both: catches creep too slow for one segment.
+  double k_mean_pooled = 3.5;
   // Angle random walk per axis, dps/sqrt(Hz) (`headingd allan --emit-config`). Unset: measured
   // from the start-up segment's block means, then refined from every accepted segment.
   std::optional<Vec3> arw_dps_rt_hz;
@@ -27,6 +30,20 @@ struct AutoSettings {
   // (the Kalman process noise). Default: a bias instability of ~3.6 deg/h reached in ~100 s.
   double bias_walk_dps_rt_s = 1e-4;
   double block_s = 0.1;  // block length of the noise-density estimate, s
+  // What the stillness test cannot tell apart: a segment whose mean is near the threshold may
+  // hide a slow turn (if accepted) or be still after all (if rejected). The probability p of
+  // the other verdict comes from a two-hypothesis mixture: still (Gaussian around the
+  // predicted bias) against turning slowly (rates spread evenly over +-creep_span_dps, prior
+  // creep_prior). The heading then takes the posterior mean of the segment's turn, and its
+  // variance grows by p (1 - p) (deviation * T)^2.
+  // true: the heading takes the posterior mean of the segment's turn (soft verdicts);
+  // false: the hard verdict decides the heading and only the variance reflects the doubt.
+  bool soft_verdicts = false;
+  double creep_span_dps = 0.2;
+  double creep_prior = 0.1;
+  // Time constant of the running estimate of sample-to-sample noise (vibration), s: while it
+  // exceeds the still noise, the heading variance grows with it instead.
+  double vibration_tau_s = 1.0;
   bool use_temperature = true;
   TemperatureModelSettings temperature = kDefaultTemperatureModelSettings;
 };

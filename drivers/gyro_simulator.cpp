@@ -69,6 +69,7 @@ void GyroSimulator::step(core::Sample& measured, TruthPoint& truth) {
     update_slow_bias(dt_s * static_cast<double>(slow_update_every_));
 
   const double temp_c = noise.ambient_c + noise.warmup_rise_c * (1.0 - std::exp(-t_s / noise.warmup_tau_s)) +
+                        noise.swing_c * std::sin(2.0 * std::numbers::pi * t_s / noise.swing_period_s) +
                         leg.temp_offset_c;
   const core::Vec3 bias_dps = noise.initial_bias_dps +
                               noise.bias_per_c_dps * (temp_c - noise.ambient_c) + slow_bias_dps_;
@@ -79,7 +80,9 @@ void GyroSimulator::step(core::Sample& measured, TruthPoint& truth) {
   }
   core::Vec3 value = leg.rate_dps + bias_dps + filtered_noise_dps_;
   if (leg.vibration_dps > 0.0) {
-    for (int axis = 0; axis < 3; ++axis) value[axis] += leg.vibration_dps * normal_(rng_);
+    // A wheeled platform shakes in pitch and roll far more than in yaw.
+    for (int axis = 0; axis < 3; ++axis)
+      value[axis] += leg.vibration_dps * noise.vibration_share[axis] * normal_(rng_);
   }
 
   // The true heading uses the estimator's rectangle rule: rate at t_i over (t_{i-1}, t_i].
@@ -93,6 +96,7 @@ void GyroSimulator::step(core::Sample& measured, TruthPoint& truth) {
   truth.t_s = t_s;
   truth.heading_deg = heading_deg_;
   truth.bias_z_dps = bias_dps.z();
+  truth.rate_z_dps = leg.rate_dps.z();
   truth.temp_c = temp_c;
   truth.moving = leg.moving;
   ++index_;

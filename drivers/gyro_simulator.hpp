@@ -15,6 +15,7 @@ struct TruthPoint {
   double t_s = 0.0;
   double heading_deg = 0.0;
   double bias_z_dps = 0.0;  // true bias (temperature + instability), no white noise
+  double rate_z_dps = 0.0;  // true turn rate
   double temp_c = 0.0;
   bool moving = false;
 };

@@ -82,6 +82,50 @@ void build_agv(Scenario& s, std::uint64_t seed) {
   }
 }
 
+// Slow rotation, the paper's blind spot: creeps of 0.02-0.5 dps lasting tens of seconds
+// between stops, now and then an ordinary turn.
+void build_creep(Scenario& s, std::uint64_t seed) {
+  LegBuilder legs(s);
+  std::mt19937_64 rng(seed * 104729 + 3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto between = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
+  const double duration_s = static_cast<double>(s.total_samples) / s.noise.rate_hz;
+  legs.still(30.0);
+  while (legs.elapsed_s() < duration_s) {
+    const double sign = unit(rng) < 0.5 ? -1.0 : 1.0;
+    if (unit(rng) < 0.25) {
+      legs.turn(90.0 / 20.0, sign * 20.0, 0.5);
+    } else {
+      const double rate_dps = 0.02 * std::pow(0.5 / 0.02, unit(rng));  // log-uniform 0.02..0.5
+      legs.turn(between(20.0, 60.0), sign * rate_dps, 0.02);
+    }
+    legs.still(between(20.0, 60.0));
+  }
+}
+
+// Temperature swinging by 10 degC (peak to peak, 30 min period) while an AGV drives for 2-6
+// minutes at a time, with long stops (3-10 min) between drives.
+void build_thermal(Scenario& s, std::uint64_t seed) {
+  s.noise.swing_c = 5.0;
+  s.noise.swing_period_s = 1800.0;
+  LegBuilder legs(s);
+  std::mt19937_64 rng(seed * 15485863 + 5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto between = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
+  const double duration_s = static_cast<double>(s.total_samples) / s.noise.rate_hz;
+  legs.still(30.0);
+  while (legs.elapsed_s() < duration_s) {
+    const double drive_end_s = legs.elapsed_s() + between(120.0, 360.0);
+    while (legs.elapsed_s() < drive_end_s) {
+      legs.turn(between(10.0, 40.0), between(-0.5, 0.5), 1.0);
+      const double sign = unit(rng) < 0.5 ? -1.0 : 1.0;
+      const double rate_dps = between(20.0, 40.0);
+      legs.turn(90.0 / rate_dps, sign * rate_dps, 1.5);
+    }
+    legs.still(between(180.0, 600.0));
+  }
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> scenario_list() {
@@ -89,6 +133,8 @@ std::vector<std::pair<std::string, std::string>> scenario_list() {
       {"paper12h", "the paper's 12 h test: 0.2 rad every 6 min, slow final stage of each turn"},
       {"still", "standing still for 4 h through the warm-up"},
       {"agv", "warehouse AGV, 1 h: stops, straight drives with vibration, 45/90 deg turns, curves"},
+      {"creep", "slow rotation, 2 h: creeps of 0.02-0.5 dps for 20-60 s between stops, some turns"},
+      {"thermal", "temperature swinging 10 C p-p while driving for minutes, long stops, 4 h"},
   };
 }
 
@@ -102,6 +148,10 @@ std::optional<Scenario> build_scenario(std::string_view name, std::uint64_t seed
     default_hours = 4.0;
   } else if (name == "agv") {
     default_hours = 1.0;
+  } else if (name == "creep") {
+    default_hours = 2.0;
+  } else if (name == "thermal") {
+    default_hours = 4.0;
   } else {
     return std::nullopt;
   }
@@ -111,6 +161,8 @@ std::optional<Scenario> build_scenario(std::string_view name, std::uint64_t seed
   s.total_samples = static_cast<std::uint64_t>(std::llround(use_hours * 3600.0 * s.noise.rate_hz));
   if (name == "paper12h") build_paper12h(s);
   if (name == "agv") build_agv(s, seed);
+  if (name == "creep") build_creep(s, seed);
+  if (name == "thermal") build_thermal(s, seed);
   return s;
 }
 

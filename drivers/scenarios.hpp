@@ -24,6 +24,9 @@ struct NoiseModel {
   double ambient_c = 22.0;
   double warmup_rise_c = 15.0;            // self-heating after power-on
   double warmup_tau_s = 3600.0;           // paper: about 4 h to settle (~4 time constants)
+  double swing_c = 0.0;                   // amplitude of a slow temperature swing, degC
+  double swing_period_s = 1800.0;         // its period, s
+  core::Vec3 vibration_share{1.0, 1.0, 0.3};  // of a leg's vibration, per axis
   double quantum_dps = 0.00875;           // 8.75 mdps/LSB at +-245 dps
   double full_scale_dps = 245.0;
 };

@@ -7,8 +7,10 @@ source "$(dirname "$0")/lib.sh"
 build_preset default quiet
 headingd="$HEADINGD_ROOT/build/default/daemon/headingd"
 data="$HEADINGD_ROOT/tests/data"
-for method in a b c; do
+for method in a b c auto; do
   "$headingd" replay "$data/agv-1min/imu.csv" --method "$method" --output "$data/agv-1min/expected-$method.csv" --quiet
 done
-"$headingd" replay "$data/broad-05-excerpt/imu.csv" --method c --output "$data/broad-05-excerpt/expected-c.csv" --quiet
+for method in c auto; do
+  "$headingd" replay "$data/broad-05-excerpt/imu.csv" --method "$method" --output "$data/broad-05-excerpt/expected-$method.csv" --quiet
+done
 git -C "$HEADINGD_ROOT" diff --stat -- tests/data || true

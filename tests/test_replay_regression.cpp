@@ -66,4 +66,6 @@ void check_recording(const std::string& name, const std::string& method) {
 TEST(RecordedRegression, AgvMinuteMethodA) { check_recording("agv-1min", "a"); }
 TEST(RecordedRegression, AgvMinuteMethodB) { check_recording("agv-1min", "b"); }
 TEST(RecordedRegression, AgvMinuteMethodC) { check_recording("agv-1min", "c"); }
+TEST(RecordedRegression, AgvMinuteMethodAuto) { check_recording("agv-1min", "auto"); }
 TEST(RecordedRegression, BroadExcerptMethodC) { check_recording("broad-05-excerpt", "c"); }
+TEST(RecordedRegression, BroadExcerptMethodAuto) { check_recording("broad-05-excerpt", "auto"); }
