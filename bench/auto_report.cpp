@@ -91,6 +91,7 @@ struct Row {
   std::uint64_t seed;
   core::HeadingMetrics c, automatic;
   double honest_fraction;
+  std::uint64_t honest, judged;
   Classification c_classes, auto_classes;
 };
 
@@ -150,7 +151,7 @@ int main(int argc, char** argv) {
         step(automatic, sample, truth, i % every == 0);
       }
       rows.push_back(Row{name, seed, c.metrics, automatic.metrics, pct(automatic.honest, automatic.judged),
-                         c.classes, automatic.classes});
+                         automatic.honest, automatic.judged, c.classes, automatic.classes});
       std::fflush(stdout);
     }
   }
@@ -198,14 +199,18 @@ int main(int argc, char** argv) {
               static_cast<unsigned long long>(c_all.still), pct(c_all.still_rejected, c_all.still),
               static_cast<unsigned long long>(auto_all.still), pct(auto_all.still_rejected, auto_all.still));
 
-  std::uint64_t honest_runs = 0;
+  std::uint64_t honest_runs = 0, honest_all = 0, judged_all = 0;
   double lo = 100.0, hi = 0.0;
   for (const auto& r : rows) {
+    honest_all += r.honest;
+    judged_all += r.judged;
     lo = std::min(lo, r.honest_fraction);
     hi = std::max(hi, r.honest_fraction);
     honest_runs += (r.honest_fraction >= 90.0 && r.honest_fraction <= 99.0) ? 1u : 0u;
   }
   std::printf("\nHonest sigma: |E| <= 2 sigma in %.1f%% .. %.1f%% of output samples per run; %llu of %zu runs within 90-99%%\n",
               lo, hi, static_cast<unsigned long long>(honest_runs), rows.size());
+  std::printf("Honest sigma over all runs together: |E| <= 2 sigma in %.1f%% of %llu output samples (target 90-99%%)\n",
+              pct(honest_all, judged_all), static_cast<unsigned long long>(judged_all));
   return 0;
 }

@@ -2,6 +2,7 @@
 // *_command.cpp; this file only parses the command line and dispatches.
 #include <CLI/CLI.hpp>
 
+#include "daemon/allan_command.hpp"
 #include "daemon/exit_codes.hpp"
 #include "daemon/replay_command.hpp"
 #include "daemon/score_command.hpp"
@@ -40,6 +41,15 @@ int main(int argc, char** argv) {
   score_cmd->add_option("--errors", score.errors_output, "Write time_h,error_deg at 1 Hz to this file");
   score_cmd->add_flag("--header", score.header, "Print the table header first");
 
+  app::AllanOptions allan;
+  auto* allan_cmd = cli.add_subcommand("allan", "Allan deviation of a still recording; noise terms for the config");
+  allan_cmd->add_option("input", allan.input, "Recording: headingd CSV or EuRoC/ASL imu.csv")->required();
+  allan_cmd->add_option("--axis", allan.axis, "x, y, z or all")->capture_default_str();
+  allan_cmd->add_option("--plot", allan.plot_path, "Draw a log-log plot to this PNG (needs gnuplot)");
+  allan_cmd->add_flag("--emit-config", allan.emit_config, "Print the estimator settings as a TOML fragment");
+  allan_cmd->add_flag("--still-only", allan.still_only,
+                      "Use only the segments the auto estimator accepts as still (cuts out motion)");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& help) {
@@ -56,5 +66,6 @@ int main(int argc, char** argv) {
   if (replay_cmd->parsed()) return app::run_replay(replay);
   if (simulate_cmd->parsed()) return app::run_simulate(simulate);
   if (score_cmd->parsed()) return app::run_score(score);
+  if (allan_cmd->parsed()) return app::run_allan(allan);
   return app::kExitUsage;
 }

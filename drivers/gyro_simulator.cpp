@@ -9,7 +9,7 @@ namespace {
 
 // Each Gauss-Markov term's Allan deviation peaks near 0.62 of its sigma; three terms a
 // decade apart overlap into a floor near 0.664 * bias instability with this share each.
-constexpr double kMarkovSigmaPerInstability = 0.85;
+constexpr double kMarkovSigmaPerInstability = 0.55;
 constexpr double kSlowUpdateHz = 10.0;  // bias instability and temperature move slowly
 
 double quantise(double value, double quantum, double full_scale) {

@@ -1,0 +1,155 @@
+// Heading error on the BROAD recording as its data README defines it: the rotation angle
+// about the vertical of q_true * q_est^-1 (earth frame), the estimate aligned to the true
+// orientation at the first valid sample, RMSE over the samples the dataset marks as moving.
+// Also integrates the raw gyro twice for reference: with no bias removal, and with the bias
+// taken by hand as the mean of the first rest.
+// Usage: broad_heading_error TRUTH.csv IMU.csv [LABEL=ESTIMATES.csv ...]
+//        (estimates written by `headingd replay --output-rate 0`, one row per IMU sample)
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "core/attitude_integrator.hpp"
+#include "core/units.hpp"
+#include "drivers/csv_replay.hpp"
+#include "drivers/text_fields.hpp"
+
+using namespace headingd;
+using Quat = Eigen::Quaterniond;
+
+namespace {
+
+struct TruthRow {
+  double t_s;
+  Quat q;
+  bool valid;
+  bool moving;
+};
+
+// Rows keyed by time in microseconds, so the two files' times meet exactly.
+long long key(double t_s) { return std::llround(t_s * 1e6); }
+
+std::vector<TruthRow> read_truth(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<TruthRow> rows;
+  std::string line;
+  std::getline(in, line);  // time_s,qw,qx,qy,qz,moving
+  drivers::Fields f;
+  while (std::getline(in, line)) {
+    drivers::split_fields(line, ',', f);
+    if (f.count < 6) continue;
+    TruthRow row{};
+    row.t_s = drivers::parse_double(f.items[0]).value_or(NAN);
+    const auto w = drivers::parse_double(f.items[1]), x = drivers::parse_double(f.items[2]),
+               y = drivers::parse_double(f.items[3]), z = drivers::parse_double(f.items[4]);
+    row.valid = w && x && y && z;
+    if (row.valid) row.q = Quat(*w, *x, *y, *z).normalized();
+    row.moving = drivers::trim(f.items[5]) == "1";
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::map<long long, Quat> read_estimates(const std::string& path) {
+  std::ifstream in(path);
+  std::map<long long, Quat> rows;
+  std::string line;
+  drivers::Fields f;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == 't' || line[0] == '#') continue;
+    drivers::split_fields(line, ',', f);
+    const auto t = drivers::parse_double(f.items[0]);
+    const auto w = drivers::parse_double(f.items[2]), x = drivers::parse_double(f.items[3]),
+               y = drivers::parse_double(f.items[4]), z = drivers::parse_double(f.items[5]);
+    if (t && w && x && y && z) rows.emplace(key(*t), Quat(*w, *x, *y, *z).normalized());
+  }
+  return rows;
+}
+
+double heading_error_deg(const Quat& truth, const Quat& estimate) {
+  const Quat e = truth * estimate.inverse();
+  double angle = 2.0 * std::atan2(e.z(), e.w());  // twist about the earth's vertical
+  angle = std::remainder(angle, 2.0 * M_PI);
+  return core::rad_to_deg(angle);
+}
+
+// RMSE during movement, the estimate aligned to the truth at the first valid sample.
+double rmse(const std::vector<TruthRow>& truth, const std::map<long long, Quat>& estimate) {
+  bool aligned = false;
+  Quat align = Quat::Identity();
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& row : truth) {
+    const auto it = estimate.find(key(row.t_s));
+    if (it == estimate.end() || !row.valid) continue;
+    if (!aligned) {
+      align = row.q * it->second.inverse();
+      aligned = true;
+    }
+    if (!row.moving) continue;
+    const double e = heading_error_deg(row.q, align * it->second);
+    sum += e * e;
+    ++n;
+  }
+  return n ? std::sqrt(sum / static_cast<double>(n)) : NAN;
+}
+
+// Raw gyro integrated from the first sample with a fixed bias.
+std::map<long long, Quat> integrate(const std::vector<core::Sample>& samples, const core::Vec3& bias_dps) {
+  std::map<long long, Quat> out;
+  core::AttitudeIntegrator attitude;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (i > 0) attitude.add(samples[i].rate_dps - bias_dps, samples[i].t_s - samples[i - 1].t_s);
+    out.emplace(key(samples[i].t_s), attitude.attitude());
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: broad_heading_error TRUTH.csv IMU.csv [LABEL=ESTIMATES.csv ...]\n");
+    return 64;
+  }
+  const auto truth = read_truth(argv[1]);
+  std::vector<core::Sample> samples;
+  drivers::CsvReplaySource source(argv[2]);
+  std::vector<core::Sample> batch(4096);
+  while (const auto n = source.read(batch)) samples.insert(samples.end(), batch.begin(), batch.begin() + static_cast<long>(n));
+
+  // The first rest: samples before the dataset's first moving mark.
+  double first_motion_s = 0.0;
+  for (const auto& row : truth) {
+    if (row.moving) {
+      first_motion_s = row.t_s;
+      break;
+    }
+  }
+  core::Vec3 rest_bias = core::Vec3::Zero();
+  std::size_t rest_n = 0;
+  for (const auto& s : samples) {
+    if (s.t_s >= first_motion_s) break;
+    rest_bias += s.rate_dps;
+    ++rest_n;
+  }
+  rest_bias /= static_cast<double>(std::max<std::size_t>(rest_n, 1));
+
+  std::printf("heading RMSE during movement (deg), BROAD trial 05, %zu samples\n", samples.size());
+  std::printf("  %-34s %6.2f\n", "raw gyro, no bias removal", rmse(truth, integrate(samples, core::Vec3::Zero())));
+  std::printf("  %-34s %6.2f   (bias %.3f %.3f %.3f dps from %.1f s of rest)\n", "raw gyro, bias of first rest by hand",
+              rmse(truth, integrate(samples, rest_bias)), rest_bias.x(), rest_bias.y(), rest_bias.z(),
+              static_cast<double>(rest_n) / 285.714);
+  for (int i = 3; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto eq = arg.find('=');
+    const std::string label = "headingd " + arg.substr(0, eq);
+    std::printf("  %-34s %6.2f\n", label.c_str(), rmse(truth, read_estimates(arg.substr(eq + 1))));
+  }
+  return 0;
+}

@@ -1,0 +1,116 @@
+// Method auto as a whole, on crafted signals: short stops, creep, hints, uncertainty.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/estimator.hpp"
+
+using namespace headingd::core;
+
+namespace {
+
+constexpr double kRateHz = 400.0;
+
+class Rig {
+ public:
+  explicit Rig(EstimatorSettings settings = {}) : estimator_(settings) {}
+  // `seconds` of signal with true z rate `rate_dps` on top of bias and white noise.
+  void run(double seconds, double rate_dps, double vibration_dps = 0.0) {
+    const auto n = static_cast<int>(seconds * kRateHz + 0.5);
+    for (int i = 0; i < n; ++i) {
+      Sample s;
+      s.t_s = static_cast<double>(index_++) / kRateHz;
+      s.temp_c = 30.0;
+      const double shake = vibration_dps * noise_(rng_);
+      s.rate_dps = Vec3(0.3 + 0.05 * noise_(rng_) + shake, -0.2 + 0.05 * noise_(rng_) + shake,
+                        -0.45 + rate_dps + 0.2 * noise_(rng_) + 0.3 * shake);
+      true_heading_ += rate_dps / kRateHz * (index_ > 1 ? 1.0 : 0.0);
+      const auto& e = estimator_.update(s);
+      if (e.closed.closed) {
+        ++closed_;
+        accepted_ += e.closed.accepted ? 1 : 0;
+      }
+    }
+  }
+  Estimator& estimator() { return estimator_; }
+  double error() const { return true_heading_ - estimator_.last().heading_deg; }
+  int closed() const { return closed_; }
+  int accepted() const { return accepted_; }
+  void reset_counts() { closed_ = accepted_ = 0; }
+
+ private:
+  Estimator estimator_;
+  std::mt19937_64 rng_{21};
+  std::normal_distribution<double> noise_{0.0, 1.0};
+  long index_ = 0;
+  double true_heading_ = 0.0;
+  int closed_ = 0;
+  int accepted_ = 0;
+};
+
+}  // namespace
+
+TEST(AutoEstimator, IsTheDefaultMethod) { EXPECT_EQ(Estimator().method(), Method::Auto); }
+
+TEST(AutoEstimator, HoldsHeadingWhileStill) {
+  Rig rig;
+  rig.run(600.0, 0.0);
+  EXPECT_LT(std::abs(rig.error()), 0.05) << "zero-rate updates keep a still heading in place";
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.005);
+  EXPECT_GE(rig.accepted(), rig.closed() - 3);
+}
+
+TEST(AutoEstimator, CreepIsMotionNotBias) {
+  Rig rig;
+  rig.run(60.0, 0.0);
+  rig.reset_counts();
+  rig.run(60.0, 0.05);  // 3 deg over a minute, far too slow for any range test
+  EXPECT_LE(rig.accepted(), 1) << "creep at 0.05 dps is classified as motion";
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01) << "and not absorbed into the bias";
+  EXPECT_LT(std::abs(rig.error()), 0.25);
+}
+
+TEST(AutoEstimator, ShortStopCounts) {
+  Rig rig;
+  rig.run(10.0, 0.0);
+  rig.run(5.0, 20.0, 1.0);
+  rig.reset_counts();
+  rig.run(1.5, 0.0);  // a stop shorter than a segment, cut by the next move
+  rig.run(5.0, -20.0, 1.0);
+  EXPECT_GE(rig.accepted(), 1) << "a 1.5 s stop is used";
+  EXPECT_LT(std::abs(rig.error()), 0.3);
+}
+
+TEST(AutoEstimator, HintsOverrideTheTest) {
+  Rig rig;
+  rig.run(30.0, 0.0);
+  rig.estimator().set_motion_hint(MotionHint::Moving);
+  rig.reset_counts();
+  rig.run(15.0, 0.0);
+  EXPECT_EQ(rig.accepted(), 0) << "the vehicle says it drives: nothing is taken as still";
+  rig.estimator().set_motion_hint(MotionHint::Stopped);
+  rig.reset_counts();
+  rig.run(15.0, 0.03);  // creep the test alone would refuse, but the wheels are stopped
+  EXPECT_GE(rig.accepted(), 4);
+}
+
+TEST(AutoEstimator, SigmaGrowsWhileMovingNotWhileStill) {
+  Rig rig;
+  rig.run(30.0, 0.0);
+  const double still_sigma = rig.estimator().last().heading_sigma_deg;
+  rig.run(120.0, 10.0, 0.5);
+  const double moving_sigma = rig.estimator().last().heading_sigma_deg;
+  EXPECT_GT(moving_sigma, still_sigma + 0.05);
+  rig.run(60.0, 0.0);
+  EXPECT_LT(rig.estimator().last().heading_sigma_deg, moving_sigma * 1.05);
+  EXPECT_TRUE(std::isfinite(rig.estimator().last().bias_sigma_dps.z()));
+}
+
+TEST(AutoEstimator, HeadingFixIsApplied) {
+  Rig rig;
+  rig.run(10.0, 0.0);
+  rig.estimator().set_heading(90.0, 0.0);
+  rig.run(6.1, 0.0);
+  EXPECT_NEAR(rig.estimator().last().heading_deg, 90.0, 0.05);
+}

@@ -1,0 +1,98 @@
+// The parts of method auto, each alone: the angle/bias Kalman filter, the temperature
+// model, the noise-density estimate.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/axis_filter.hpp"
+#include "core/noise_density.hpp"
+#include "core/temperature_model.hpp"
+
+using namespace headingd::core;
+
+TEST(AxisFilter, BiasMeasurementCorrectsAngleIntegratedWithWrongBias) {
+  AxisFilter filter;
+  filter.reset(0.10, 0.01 * 0.01);  // believed bias 0.10, sigma 0.01 dps
+  // Still for 100 s while the true bias is 0.11: the integrated angle drifts by -1 deg.
+  for (int i = 0; i < 10000; ++i) filter.propagate(0.11, 0.01, 1e-8, 0.0);
+  EXPECT_NEAR(filter.angle_deg(), 1.0, 1e-9);  // (0.11 - 0.10) * 100 s
+  // A precise bias measurement moves the bias and, through the cross-covariance, takes the
+  // angle most of the way back.
+  filter.measure_bias(0.11, 1e-8);
+  EXPECT_NEAR(filter.bias_dps(), 0.11, 1e-4);
+  EXPECT_NEAR(filter.angle_deg(), 0.0, 0.02);
+  EXPECT_LT(filter.bias_variance(), 2e-8);
+}
+
+TEST(AxisFilter, VarianceGrowsWithWhiteNoiseAndBiasUncertainty) {
+  AxisFilter filter;
+  filter.reset(0.0, 0.0);
+  for (int i = 0; i < 100; ++i) filter.propagate(0.0, 0.01, 0.01 * 0.01, 0.0);  // N = 0.01 for 1 s
+  EXPECT_NEAR(filter.angle_variance(), 1e-4, 1e-12);
+  AxisFilter uncertain_bias;
+  uncertain_bias.reset(0.0, 0.001 * 0.001);
+  for (int i = 0; i < 1000; ++i) uncertain_bias.propagate(0.0, 0.01, 0.0, 0.0);  // 10 s
+  EXPECT_NEAR(std::sqrt(uncertain_bias.angle_variance()), 0.01, 1e-9);  // sigma_b * T
+}
+
+TEST(AxisFilter, AngleFixPullsAngle) {
+  AxisFilter filter;
+  filter.reset(0.0, 1e-6);
+  for (int i = 0; i < 100; ++i) filter.propagate(1.0, 0.01, 1e-4, 0.0);
+  filter.measure_angle(5.0, 1e-9);
+  EXPECT_NEAR(filter.angle_deg(), 5.0, 1e-4);
+  EXPECT_LT(filter.angle_variance(), 1e-8);
+}
+
+TEST(TemperatureModel, LearnsLinearSlopeOnceSpreadIsEnough) {
+  TemperatureModel model;
+  std::mt19937_64 rng(4);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  for (int i = 0; i < 6; ++i) model.add(i * 60.0, 25.0 + 0.1 * i, -0.45 + noise(rng), 1e-5);
+  EXPECT_FALSE(model.ready()) << "half a degree of spread tells nothing about the slope";
+  EXPECT_EQ(model.slope_dps_per_c(30.0), 0.0);
+  for (int i = 0; i < 200; ++i) {
+    const double temp = 22.0 + 10.0 * (i % 20) / 19.0;
+    model.add(400.0 + i * 60.0, temp, -0.45 + 0.0012 * (temp - 25.0) + noise(rng), 1e-5);
+  }
+  ASSERT_TRUE(model.ready());
+  EXPECT_NEAR(model.slope_dps_per_c(25.0), 0.0012, 0.0002);
+  EXPECT_NEAR(model.predict_dps(30.0), -0.45 + 0.006, 0.002);
+  EXPECT_GT(model.slope_variance(), 0.0);
+  EXPECT_LT(std::sqrt(model.slope_variance()), 0.0005);
+}
+
+TEST(TemperatureModel, OldPointsFade) {
+  TemperatureModelSettings settings;
+  settings.half_life_s = 3600.0;
+  TemperatureModel model(settings);
+  for (int i = 0; i < 100; ++i) model.add(i * 10.0, 20.0 + (i % 10), 0.002 * (i % 10), 1e-6);  // slope 0.002
+  ASSERT_TRUE(model.ready());
+  EXPECT_NEAR(model.slope_dps_per_c(25.0), 0.002, 1e-4);
+  // A day later the chip's slope has changed; new points soon outweigh the old.
+  for (int i = 0; i < 100; ++i) model.add(86400.0 + i * 10.0, 20.0 + (i % 10), -0.001 * (i % 10), 1e-6);
+  EXPECT_NEAR(model.slope_dps_per_c(25.0), -0.001, 1e-4);
+}
+
+TEST(NoiseDensity, BlockMeansRecoverWhiteNoiseDensityThroughALowPass) {
+  // White noise of density N, sampled at 400 Hz and low-passed like the chip: per-sample sigma
+  // is much lower than N * sqrt(fs), but 0.1 s block means still see N.
+  const double density = 0.011, fs = 400.0;
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> white(0.0, density * std::sqrt(fs));
+  const double alpha = std::exp(-2.0 * M_PI * 50.0 / fs);
+  double filtered = 0.0;
+  NoiseDensity pooled;
+  BlockMeans blocks(0.1);
+  for (int segment = 0; segment < 100; ++segment) {
+    blocks.reset();
+    for (int i = 0; i < 1200; ++i) {
+      filtered = alpha * filtered + (1.0 - alpha) * white(rng);
+      blocks.add(Vec3(filtered, filtered, filtered), 1.0 / fs);
+    }
+    pooled.add(blocks);
+  }
+  ASSERT_TRUE(pooled.known());
+  EXPECT_NEAR(std::sqrt(pooled.density_squared().z()), density, 0.05 * density);
+}
