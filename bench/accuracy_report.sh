@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The paper's 12-hour experiment on the simulator: simulate paper12h, replay it with the
-# paper's methods A, B and C, print max |E|, final |E|, RMS and drift side by side (per seed),
+# paper's methods A, B and C and with headingd's auto, print max |E|, final |E|, RMS and drift side by side (per seed),
 # and draw heading error against time like the paper's Fig. 7.
 # Usage: bench/accuracy_report.sh [SEED...]   (default seeds: 1 2 3)
 set -euo pipefail
@@ -12,7 +12,7 @@ out="$HEADINGD_ROOT/build/bench"
 mkdir -p "$out"
 seeds=("$@")
 [ ${#seeds[@]} -gt 0 ] || seeds=(1 2 3)
-methods=(a b c)
+methods=(a b c auto)
 
 first=1
 for seed in "${seeds[@]}"; do
@@ -42,6 +42,7 @@ set datafile separator ","
 set yrange [-30:30]
 plot "$dir/error-a.csv" every ::1 using 1:2 with lines lw 1.5 title "A: start-up bias (clipped at 30 deg)", \
      "$dir/error-b.csv" every ::1 using 1:2 with lines lw 1.5 title "B: range criterion", \
-     "$dir/error-c.csv" every ::1 using 1:2 with lines lw 1.5 title "C: range + mean criteria"
+     "$dir/error-c.csv" every ::1 using 1:2 with lines lw 1.5 title "C: range + mean criteria", \
+     "$dir/error-auto.csv" every ::1 using 1:2 with lines lw 2 title "auto: headingd's estimator"
 GNUPLOT
 echo "plot: $plot"

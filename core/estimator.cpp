@@ -19,6 +19,7 @@ std::optional<std::string> validate(const EstimatorSettings& s) {
     return "auto.min_segment_s must be positive and at most segment_s";
   if (!(a.k_range > 0.0) || !std::isfinite(a.k_range)) return "auto.k_range must be positive";
   if (!(a.k_mean > 0.0) || !std::isfinite(a.k_mean)) return "auto.k_mean must be positive";
+  if (!(a.k_mean_pooled > 0.0) || !std::isfinite(a.k_mean_pooled)) return "auto.k_mean_pooled must be positive";
   if (!(a.bias_walk_dps_rt_s >= 0.0) || !std::isfinite(a.bias_walk_dps_rt_s))
     return "auto.bias_walk_dps_rt_s must be zero or positive";
   if (!(a.block_s > 0.0) || a.block_s > a.min_segment_s) return "auto.block_s must be positive and at most min_segment_s";

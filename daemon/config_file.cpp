@@ -128,13 +128,14 @@ void read_auto(const TableReader& r, core::AutoSettings& a) {
         if (name == "min_segment_s") a.min_segment_s = r.number(node, key, 0.0, 600.0, true);
         else if (name == "k_range") a.k_range = r.number(node, key, 0.0, 1000.0, true);
         else if (name == "k_mean") a.k_mean = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "k_mean_pooled") a.k_mean_pooled = r.number(node, key, 0.0, 1000.0, true);
         else if (name == "arw_dps_rt_hz") a.arw_dps_rt_hz = r.vector3(node, key, 0.0, 10.0);
         else if (name == "bias_walk_dps_rt_s") a.bias_walk_dps_rt_s = r.number(node, key, 0.0, 1.0, false);
         else if (name == "block_s") a.block_s = r.number(node, key, 0.0, 60.0, true);
         else return false;
         return true;
       },
-      "min_segment_s, k_range, k_mean, arw_dps_rt_hz, bias_walk_dps_rt_s, block_s");
+      "min_segment_s, k_range, k_mean, k_mean_pooled, arw_dps_rt_hz, bias_walk_dps_rt_s, block_s");
 }
 
 void read_estimator(const TableReader& r, core::EstimatorSettings& e) {

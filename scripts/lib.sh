@@ -8,6 +8,7 @@ HEADINGD_PACKAGES=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev libcli11-dev libtomlplusplus-dev
   libgtest-dev libgmock-dev
+  gnuplot-nox
 )
 
 # Installs the named Debian packages that are not installed yet; does nothing when all are.

@@ -29,6 +29,13 @@ core::HeadingMetrics run(core::Method method, std::uint64_t seed) {
 
 }  // namespace
 
+TEST(PaperAccuracy, AutoBeatsC) {
+  const auto c = run(core::Method::C, 4);
+  const auto automatic = run(core::Method::Auto, 4);
+  EXPECT_LT(automatic.max_abs_deg(), 0.5 * c.max_abs_deg()) << "auto " << automatic.max_abs_deg() << " C " << c.max_abs_deg();
+  EXPECT_LT(automatic.max_abs_deg(), 1.5);
+}
+
 TEST(PaperAccuracy, MethodCBeatsStartupBiasByFar) {
   for (const std::uint64_t seed : {std::uint64_t{1}, std::uint64_t{2}}) {
     const auto a = run(core::Method::A, seed);

@@ -43,6 +43,9 @@ expect no-such-file 66 "cannot open $dir/none.csv: No such file or directory" --
 expect bad-config 78 "$dir/bad.toml:2:" -- replay "$dir/malformed.csv" --config "$dir/bad.toml"
 expect bad-method 64 "'q' is not a method" -- replay "$dir/malformed.csv" --method q
 expect unwritable-output 73 "cannot create /nonexistent/o.csv" -- replay "$dir/malformed.csv" -o /nonexistent/o.csv
+expect allan-bad-axis 64 "'q' is not x, y, z or all" -- allan "$dir/malformed.csv" --axis q
+printf "%s\n0,1,2,3\n0.1,1,2,3\n" "$hdr" >"$dir/short.csv"
+expect allan-too-short 65 "too few samples for an Allan analysis" -- allan "$dir/short.csv" --axis z
 expect unknown-scenario 64 "unknown scenario 'moon'" -- simulate --scenario moon --output-dir "$dir/sim"
 
 # Estimates before a bad line are kept: the malformed file's first sample was written.
