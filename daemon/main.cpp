@@ -5,11 +5,32 @@
 #include "daemon/allan_command.hpp"
 #include "daemon/exit_codes.hpp"
 #include "daemon/replay_command.hpp"
+#include "daemon/run_command.hpp"
 #include "daemon/score_command.hpp"
 #include "daemon/simulate_command.hpp"
 #include "daemon/version.hpp"
 
 namespace app = headingd::app;
+
+namespace {
+
+void add_sensor_options(CLI::App* cmd, app::SensorOptions& s) {
+  cmd->add_option("--bus", s.bus, "I2C adapter device")->capture_default_str();
+  cmd->add_option("--address", s.address, "7-bit address: 0x6A (SA0 low) or 0x6B")->capture_default_str();
+  cmd->add_option("--rate", s.rate_hz, "Nominal output rate, Hz: 100, 200, 400, 800")->capture_default_str();
+  cmd->add_option("--bandwidth", s.bandwidth, "Bandwidth code 0..3 (at 400 Hz: 20, 25, 50, 110 Hz)")->capture_default_str();
+  cmd->add_option("--full-scale", s.full_scale_dps, "Full scale, dps: 245, 500, 2000")->capture_default_str();
+  cmd->add_option("--watermark", s.watermark, "FIFO watermark, samples (1..30)")->capture_default_str();
+  cmd->add_option("--gpio-chip", s.gpio_chip, "gpiochip of the DRDY/INT2 line (name, path or number); none: poll");
+  cmd->add_option("--gpio-line", s.gpio_line, "Line offset of DRDY/INT2 on that chip")->capture_default_str();
+  cmd->add_flag("--int2-active-low", s.int2_active_low, "DRDY/INT2 active low (falling edges)");
+  // Hidden: the register-level simulator in place of chip, bus and line.
+  cmd->add_option("--simulated-chip", s.simulated_chip)->group("");
+  cmd->add_option("--sim-seed", s.sim_seed)->group("");
+  cmd->add_option("--sim-rate-error", s.sim_rate_error)->group("");
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App cli{"headingd: gyro heading daemon for AGVs (L3GD20H, stationary-segment bias tracking)"};
@@ -50,6 +71,24 @@ int main(int argc, char** argv) {
   allan_cmd->add_flag("--still-only", allan.still_only,
                       "Use only the segments the auto estimator accepts as still (cuts out motion)");
 
+  app::RunOptions run;
+  auto* run_cmd = cli.add_subcommand("run", "Read the L3GD20H and estimate heading, live");
+  add_sensor_options(run_cmd, run.sensor);
+  run_cmd->add_option("-c,--config", run.config_path, "TOML configuration file");
+  run_cmd->add_option("--method", run.method, "Bias method: auto (default), or the paper's a, b, c");
+  run_cmd->add_option("-o,--output", run.output, "Estimates CSV ('-' = standard output)");
+  run_cmd->add_option("--output-rate", run.output_rate_hz, "Rows per second; 0 = every sample")->capture_default_str();
+  run_cmd->add_option("--record", run.record_path, "Also record the samples to this native CSV");
+  run_cmd->add_option("--duration", run.duration_s, "Stop after this many seconds (default: at SIGINT/SIGTERM)");
+
+  app::SensorOptions record_sensor;
+  std::string record_output;
+  double record_duration_s = 0.0;
+  auto* record_cmd = cli.add_subcommand("record", "Record what the L3GD20H delivers, as a CSV that replays");
+  add_sensor_options(record_cmd, record_sensor);
+  record_cmd->add_option("-o,--output", record_output, "Native CSV to write")->required();
+  record_cmd->add_option("--duration", record_duration_s, "Stop after this many seconds (default: at SIGINT/SIGTERM)");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& help) {
@@ -67,5 +106,7 @@ int main(int argc, char** argv) {
   if (simulate_cmd->parsed()) return app::run_simulate(simulate);
   if (score_cmd->parsed()) return app::run_score(score);
   if (allan_cmd->parsed()) return app::run_allan(allan);
+  if (run_cmd->parsed()) return app::run_live(run);
+  if (record_cmd->parsed()) return app::run_record(record_sensor, record_output, record_duration_s);
   return app::kExitUsage;
 }

@@ -162,7 +162,8 @@ void L3gd20h::configure() {
   discard_next_ = true;
   identical_run_ = 0;
   last_drain_end_ns_ = ready_.now_ns();
-  last_housekeeping_ns_ = 0;
+  last_housekeeping_ns_ = ready_.now_ns();
+  temp_c_ = kTempOffsetC - static_cast<std::int8_t>(read_register(OUT_TEMP));  // samples carry it from the first
 }
 
 bool L3gd20h::registers_intact() {

@@ -1,0 +1,24 @@
+#pragma once
+#include <optional>
+#include <string>
+
+#include "daemon/live_source.hpp"
+
+namespace headingd::app {
+
+struct RunOptions {
+  SensorOptions sensor;
+  std::optional<std::string> config_path;
+  std::optional<std::string> method;
+  std::optional<std::string> output;         // estimates CSV
+  double output_rate_hz = 10.0;
+  std::optional<std::string> record_path;    // also write what the sensor delivers (native CSV)
+  double duration_s = 0.0;                    // 0: until SIGINT or SIGTERM
+};
+
+// `headingd run`: the live sensor through the same pipeline as replay.
+int run_live(const RunOptions& options);
+// `headingd record`: what the sensor delivers, as a native CSV that replays.
+int run_record(const SensorOptions& sensor, const std::string& output, double duration_s);
+
+}  // namespace headingd::app
