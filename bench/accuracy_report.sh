@@ -19,7 +19,7 @@ for seed in "${seeds[@]}"; do
   dir="$out/paper12h-s$seed"
   "$headingd" simulate --scenario paper12h --seed "$seed" --output-dir "$dir" 2>/dev/null
   for method in "${methods[@]}"; do
-    "$headingd" replay "$dir/imu.csv" --method "$method" --output "$dir/est-$method.csv" --quiet
+    "$headingd" replay --no-dds "$dir/imu.csv" --method "$method" --output "$dir/est-$method.csv" --quiet
     header=()
     [ "$first" -eq 1 ] && header=(--header) && first=0
     "$headingd" score "$dir/est-$method.csv" "$dir/truth.csv" --label "$method seed $seed" \

@@ -172,14 +172,46 @@ void read_estimator(const TableReader& r, core::EstimatorSettings& e) {
       "[estimator.temperature]");
 }
 
+std::string text_of(const std::string& file, const toml::node& node, const std::string& key) {
+  const auto* text = node.as_string();
+  if (text == nullptr) fail(file, node, key, "must be a string, found " + shown(node));
+  return std::string(text->get());
+}
+
+void read_dds(const TableReader& r, DdsSettings& d) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "domain_id") d.domain_id = static_cast<int>(r.integer(node, key, 0, 232));
+        else if (name == "prefix") d.prefix = text_of(r.file(), node, key);
+        else if (name == "ros2_naming") d.ros2_naming = r.boolean(node, key);
+        else if (name == "publish_imu") d.publish_imu = r.boolean(node, key);
+        else if (name == "imu_topic") d.imu_topic = text_of(r.file(), node, key);
+        else if (name == "frame_id") d.frame_id = text_of(r.file(), node, key);
+        else if (name == "orientation_rate_hz") d.orientation_rate_hz = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "orientation_reliable") d.orientation_reliable = r.boolean(node, key);
+        else if (name == "profiles_xml") d.profiles_xml = text_of(r.file(), node, key);
+        else if (name == "discovery_server") {
+          d.discovery_server = text_of(r.file(), node, key);
+          if (d.discovery_server->find(':') == std::string::npos)
+            fail(r.file(), node, key, "must be HOST:PORT, found " + shown(node));
+        } else if (name == "command_max_age_s") d.command_limits.max_age_s = r.number(node, key, 0.0, 3600.0, true);
+        else return false;
+        return true;
+      },
+      "domain_id, prefix, ros2_naming, publish_imu, imu_topic, frame_id, orientation_rate_hz, orientation_reliable, "
+      "profiles_xml, discovery_server, command_max_age_s");
+}
+
 Config interpret(const toml::table& root, const std::string& file) {
   Config config;
   for (const auto& [raw_key, node] : root) {
     const std::string key(raw_key.str());
     if (key == "estimator") {
       read_estimator(TableReader(file, as_table(file, node, key), "estimator."), config.estimator);
+    } else if (key == "dds") {
+      read_dds(TableReader(file, as_table(file, node, key), "dds."), config.dds);
     } else {
-      fail(file, node, key, "is not a known section (known: [estimator])");
+      fail(file, node, key, "is not a known section (known: [estimator], [dds])");
     }
   }
   if (const auto problem = core::validate(config.estimator)) {

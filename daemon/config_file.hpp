@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/estimator.hpp"
+#include "daemon/dds_settings.hpp"
 
 namespace headingd::app {
 
@@ -16,6 +17,7 @@ class ConfigError : public std::runtime_error {
 
 struct Config {
   core::EstimatorSettings estimator = core::kDefaultEstimatorSettings;
+  DdsSettings dds;
 };
 
 Config load_config(const std::string& path);

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include "daemon/allan_command.hpp"
+#include "daemon/echo_command.hpp"
 #include "daemon/exit_codes.hpp"
 #include "daemon/replay_command.hpp"
 #include "daemon/run_command.hpp"
@@ -46,6 +47,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   replay_cmd->add_option("-c,--config", replay.config_path, "TOML configuration file");
   replay_cmd->add_flag("-q,--quiet", replay.quiet, "No summary on stderr");
+  replay.publish = true;
+  replay_cmd->add_flag("!--no-dds", replay.publish, "Do not publish over DDS (offline mode)");
+  replay_cmd->add_option("--speed", replay.speed, "max, realtime, or a factor of real time")->capture_default_str();
+  replay_cmd->add_option("--wait-subscribers", replay.wait_subscribers_s,
+                         "Wait up to this many seconds for an orientation subscriber before starting");
+  replay_cmd->add_option("--linger", replay.linger_s, "Stay this many seconds after the end (late joiners get the latest)");
 
   app::SimulateOptions simulate;
   auto* simulate_cmd = cli.add_subcommand("simulate", "Simulate a gyro recording with its truth");
@@ -89,6 +96,24 @@ int main(int argc, char** argv) {
   record_cmd->add_option("-o,--output", record_output, "Native CSV to write")->required();
   record_cmd->add_option("--duration", record_duration_s, "Stop after this many seconds (default: at SIGINT/SIGTERM)");
 
+  app::EchoOptions echo;
+  auto* echo_cmd = cli.add_subcommand("echo", "Subscribe to headingd's topics and print one line per message");
+  echo_cmd->add_option("topics", echo.topics, "orientation, imu, bias, status, command (default: the first four)");
+  echo_cmd->add_flag("--json", echo.json, "One JSON object per line");
+  echo_cmd->add_option("--count", echo.count, "Exit after this many messages");
+  echo_cmd->add_option("--timeout", echo.timeout_s, "Exit after this many seconds");
+  echo_cmd->add_flag("--reliable", echo.reliable, "Reliable orientation/imu reader (needs orientation_reliable)");
+  echo_cmd->add_option("-c,--config", echo.config_path, "TOML configuration file (its [dds] section)");
+
+  app::CommandOptions command;
+  auto* command_cmd = cli.add_subcommand("command", "Send a HeadingCommand to a running headingd");
+  command_cmd->add_option("kind", command.kind, "set-heading, stopped, moving or clear")->required();
+  command_cmd->add_option("--heading-deg", command.heading_deg, "For set-heading: the heading, deg");
+  command_cmd->add_option("--variance-deg2", command.variance_deg2, "Its variance, deg^2 (0: exact)");
+  command_cmd->add_option("--heading-rad", command.heading_rad)->group("");  // raw, for tests
+  command_cmd->add_option("--stamp-offset", command.stamp_offset_s)->group("");
+  command_cmd->add_option("-c,--config", command.config_path, "TOML configuration file (its [dds] section)");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& help) {
@@ -107,6 +132,8 @@ int main(int argc, char** argv) {
   if (score_cmd->parsed()) return app::run_score(score);
   if (allan_cmd->parsed()) return app::run_allan(allan);
   if (run_cmd->parsed()) return app::run_live(run);
+  if (echo_cmd->parsed()) return app::run_echo(echo);
+  if (command_cmd->parsed()) return app::run_command(command);
   if (record_cmd->parsed()) return app::run_record(record_sensor, record_output, record_duration_s);
   return app::kExitUsage;
 }

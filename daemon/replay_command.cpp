@@ -1,6 +1,8 @@
 #include "daemon/replay_command.hpp"
 
 #include <array>
+#include <cstdlib>
+#include <thread>
 #include <memory>
 #include <vector>
 #include <chrono>
@@ -9,6 +11,9 @@
 
 #include "core/estimator.hpp"
 #include "daemon/config_file.hpp"
+#include "daemon/dds_node.hpp"
+#include "daemon/dds_participant.hpp"
+#include "daemon/signals.hpp"
 #include "daemon/estimates_writer.hpp"
 #include "daemon/exit_codes.hpp"
 #include "drivers/csv_replay.hpp"
@@ -60,8 +65,13 @@ void print_summary(const drivers::SampleSource& source, const core::Estimator& e
 
 int run_replay(const ReplayOptions& options) {
   core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
+  DdsSettings dds_settings;
   try {
-    if (options.config_path) settings = load_config(*options.config_path).estimator;
+    if (options.config_path) {
+      const Config config = load_config(*options.config_path);
+      settings = config.estimator;
+      dds_settings = config.dds;
+    }
   } catch (const ConfigError& error) {
     std::fprintf(stderr, "headingd: %s\n", error.what());
     return kExitConfig;
@@ -79,6 +89,18 @@ int run_replay(const ReplayOptions& options) {
     return kExitUsage;
   }
 
+  double speed_factor = 0.0;  // 0: as fast as possible
+  if (options.speed == "realtime") {
+    speed_factor = 1.0;
+  } else if (options.speed != "max") {
+    char* end = nullptr;
+    speed_factor = std::strtod(options.speed.c_str(), &end);
+    if (end == options.speed.c_str() || *end != '\0' || !(speed_factor > 0.0) || !std::isfinite(speed_factor)) {
+      std::fprintf(stderr, "headingd: --speed: '%s' is not max, realtime or a positive factor\n", options.speed.c_str());
+      return kExitUsage;
+    }
+  }
+
   std::unique_ptr<drivers::CsvReplaySource> source;
   try {
     source = std::make_unique<drivers::CsvReplaySource>(options.input);
@@ -88,6 +110,20 @@ int run_replay(const ReplayOptions& options) {
   } catch (const drivers::InputError& error) {
     std::fprintf(stderr, "headingd: %s\n", error.what());
     return kExitDataError;
+  }
+
+  std::unique_ptr<DdsNode> node;
+  if (options.publish) {
+    try {
+      node = std::make_unique<DdsNode>(dds_settings);
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "headingd: DDS: %s\n", error.what());
+      return kExitSoftware;
+    }
+    install_stop_signals();
+    if (options.wait_subscribers_s > 0 && !node->wait_for_subscribers(options.wait_subscribers_s)) {
+      std::fprintf(stderr, "headingd: no orientation subscriber within %.1f s; publishing anyway\n", options.wait_subscribers_s);
+    }
   }
 
   const auto started = std::chrono::steady_clock::now();
@@ -102,9 +138,40 @@ int run_replay(const ReplayOptions& options) {
                            static_cast<std::size_t>(std::ceil(rows_per_second * settings.segments.segment_s)));
     std::vector<core::Sample> batch(kBatch);
     try {
-      while (const std::size_t count = source->read(batch)) {
-        if (estimator.samples() == 0) first_t_s = batch[0].t_s;
-        for (std::size_t i = 0; i < count; ++i) writer.add(estimator.update(batch[i]));
+      double wall_offset_s = 0.0;
+      StatusReport report;
+      report.state = 4;  // SENSOR_REPLAY
+      while (!stop_requested()) {
+        const std::size_t count = source->read(batch);
+        if (count == 0) break;
+        if (estimator.samples() == 0) {
+          first_t_s = batch[0].t_s;
+          wall_offset_s = wall_now_s() - first_t_s;
+        }
+        for (std::size_t i = 0; i < count && !stop_requested(); ++i) {
+          const core::Sample& sample = batch[i];
+          if (speed_factor > 0.0) {
+            // Pace by the recording's clock: sample due at start + (t - t0) / factor.
+            const auto due = started + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                           std::chrono::duration<double>((sample.t_s - first_t_s) / speed_factor));
+            if (due > std::chrono::steady_clock::now()) std::this_thread::sleep_until(due);
+          }
+          if (node) {
+            for (const auto& command : node->take_commands()) {
+              if (command.kind == CommandKind::SetHeading) estimator.set_heading(command.heading_deg, command.variance_deg2);
+              else estimator.set_motion_hint(command.hint);
+            }
+          }
+          const auto& estimate = estimator.update(sample);
+          writer.add(estimate);
+          if (node) {
+            report.samples_received = estimator.samples();
+            report.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            const double span = sample.t_s - first_t_s;
+            report.sample_rate_hz = span > 0 ? static_cast<double>(estimator.samples() - 1) / span : 0.0;
+            node->publish(estimate, estimator, report, speed_factor > 0 ? wall_offset_s : wall_now_s() - sample.t_s);
+          }
+        }
       }
     } catch (const drivers::InputError& error) {
       std::fprintf(stderr, "headingd: %s\n", error.what());
@@ -117,6 +184,19 @@ int run_replay(const ReplayOptions& options) {
   } catch (const OutputError& error) {
     std::fprintf(stderr, "headingd: %s\n", error.what());
     return kExitCantCreate;
+  }
+  if (node) {
+    // Late subscribers still get the latest GyroBias and Status (transient-local) meanwhile.
+    const auto linger_until = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.linger_s);
+    while (!stop_requested() && std::chrono::steady_clock::now() < linger_until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (!options.quiet) {
+      std::fprintf(stderr, "headingd replay: published %llu orientation messages; commands %llu accepted, %llu refused\n",
+                   static_cast<unsigned long long>(node->orientation_sent()),
+                   static_cast<unsigned long long>(node->commands_accepted()),
+                   static_cast<unsigned long long>(node->commands_rejected()));
+    }
+    node.reset();  // deletes the participant: no shared-memory files left behind
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (!options.quiet && estimator.samples() > 0) {

@@ -12,20 +12,11 @@
 #include "daemon/csv_out.hpp"
 #include "daemon/estimates_writer.hpp"
 #include "daemon/exit_codes.hpp"
+#include "daemon/signals.hpp"
 
 namespace headingd::app {
 namespace {
 
-std::atomic<bool> g_stop{false};
-extern "C" void on_stop_signal(int) { g_stop.store(true); }  // signals set a flag; the loop acts
-
-void install_signal_handlers() {
-  struct sigaction action {};
-  action.sa_handler = on_stop_signal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-}
 
 // Writes samples as the native CSV that `replay` reads: 9 decimals of time (the driver's
 // nanoseconds) and 5 of rate (a multiple of the LSB exactly), so a replay sees the very same
@@ -100,8 +91,8 @@ int run_live(const RunOptions& options) {
   int exit_code = kExitOk;
   auto source = open_source(options.sensor, exit_code);
   if (!source) return exit_code;
-  install_signal_handlers();
-  source->driver().set_stop_flag(&g_stop);
+  install_stop_signals();
+  source->driver().set_stop_flag(&stop_flag());
 
   core::Estimator estimator(settings);
   try {
@@ -133,7 +124,7 @@ int run_live(const RunOptions& options) {
     return kExitCantCreate;
   }
   const auto& last = estimator.last();
-  std::fprintf(stderr, "headingd run: %s\n", g_stop.load() ? "stopped by signal" : "done");
+  std::fprintf(stderr, "headingd run: %s\n", stop_requested() ? "stopped by signal" : "done");
   print_counters(source->driver());
   std::fprintf(stderr, "  estimator    %s; heading %+.3f deg, sigma %.3f deg; bias z %+.4f dps\n",
                std::string(core::method_name(estimator.method())).c_str(), last.heading_deg, last.heading_sigma_deg,
@@ -145,8 +136,8 @@ int run_record(const SensorOptions& sensor, const std::string& output, double du
   int exit_code = kExitOk;
   auto source = open_source(sensor, exit_code);
   if (!source) return exit_code;
-  install_signal_handlers();
-  source->driver().set_stop_flag(&g_stop);
+  install_stop_signals();
+  source->driver().set_stop_flag(&stop_flag());
   try {
     Recorder recorder(output, source->header_comment());
     std::vector<core::Sample> batch(64);
@@ -163,7 +154,7 @@ int run_record(const SensorOptions& sensor, const std::string& output, double du
     std::fprintf(stderr, "headingd: %s\n", error.what());
     return kExitCantCreate;
   }
-  std::fprintf(stderr, "headingd record: %s -> %s\n", g_stop.load() ? "stopped by signal" : "done", output.c_str());
+  std::fprintf(stderr, "headingd record: %s -> %s\n", stop_requested() ? "stopped by signal" : "done", output.c_str());
   print_counters(source->driver());
   return kExitOk;
 }

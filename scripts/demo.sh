@@ -11,7 +11,7 @@ recording="$HEADINGD_ROOT/data/agv-demo"
 out="$HEADINGD_ROOT/build/demo"
 mkdir -p "$out"
 
-"$headingd" replay "$recording/imu.csv" --output "$out/estimates.csv"
+"$headingd" replay --no-dds "$recording/imu.csv" --output "$out/estimates.csv"
 echo
 echo "Estimates: $out/estimates.csv (first rows below)"
 head -n 4 "$out/estimates.csv"
@@ -22,7 +22,7 @@ echo "Heading error on a simulated hour of AGV work (headingd simulate --scenari
 "$headingd" simulate --scenario agv --seed 1 --output-dir "$out/agv-1h" 2>/dev/null
 first=1
 for method in auto a b c; do
-  "$headingd" replay "$out/agv-1h/imu.csv" --method "$method" --output "$out/agv-1h/estimates-$method.csv" --quiet
+  "$headingd" replay --no-dds "$out/agv-1h/imu.csv" --method "$method" --output "$out/agv-1h/estimates-$method.csv" --quiet
   header=()
   [ "$first" -eq 1 ] && header=(--header) && first=0
   "$headingd" score "$out/agv-1h/estimates-$method.csv" "$out/agv-1h/truth.csv" --label "$method" "${header[@]}"

@@ -7,6 +7,7 @@ HEADINGD_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 HEADINGD_PACKAGES=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev libcli11-dev libtomlplusplus-dev libgpiod-dev
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev
   gnuplot-nox
 )

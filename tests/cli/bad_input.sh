@@ -33,23 +33,23 @@ printf '%s\n0,1,2,3\n0.1,1,2,3\n0.05,1,2,3\n' "$hdr" >"$dir/backwards.csv"
 printf '\x00\x01\xff garbage\n' >"$dir/binary.csv"
 printf '[estimator]\nk_range = "7"\n' >"$dir/bad.toml"
 
-expect malformed-line 65 "$dir/malformed.csv:3: expected 4 fields, found 3" -- replay "$dir/malformed.csv" -o "$dir/o.csv"
-expect non-numeric 65 "$dir/nonnumeric.csv:3: field 'gy_dps' (column 3): 'x2' is not a finite number" -- replay "$dir/nonnumeric.csv" -o "$dir/o.csv"
-expect missing-column 65 "$dir/missing.csv:1: missing column 'gy_dps'" -- replay "$dir/missing.csv" -o "$dir/o.csv"
-expect time-backwards 65 "$dir/backwards.csv:4: time goes backwards" -- replay "$dir/backwards.csv" -o "$dir/o.csv"
-expect empty-file 65 "$dir/empty.csv: file is empty" -- replay "$dir/empty.csv" -o "$dir/o.csv"
-expect binary-file 65 "$dir/binary.csv:1: missing column 'time_s'" -- replay "$dir/binary.csv" -o "$dir/o.csv"
-expect no-such-file 66 "cannot open $dir/none.csv: No such file or directory" -- replay "$dir/none.csv"
-expect bad-config 78 "$dir/bad.toml:2:" -- replay "$dir/malformed.csv" --config "$dir/bad.toml"
-expect bad-method 64 "'q' is not a method" -- replay "$dir/malformed.csv" --method q
-expect unwritable-output 73 "cannot create /nonexistent/o.csv" -- replay "$dir/malformed.csv" -o /nonexistent/o.csv
+expect malformed-line 65 "$dir/malformed.csv:3: expected 4 fields, found 3" -- replay --no-dds "$dir/malformed.csv" -o "$dir/o.csv"
+expect non-numeric 65 "$dir/nonnumeric.csv:3: field 'gy_dps' (column 3): 'x2' is not a finite number" -- replay --no-dds "$dir/nonnumeric.csv" -o "$dir/o.csv"
+expect missing-column 65 "$dir/missing.csv:1: missing column 'gy_dps'" -- replay --no-dds "$dir/missing.csv" -o "$dir/o.csv"
+expect time-backwards 65 "$dir/backwards.csv:4: time goes backwards" -- replay --no-dds "$dir/backwards.csv" -o "$dir/o.csv"
+expect empty-file 65 "$dir/empty.csv: file is empty" -- replay --no-dds "$dir/empty.csv" -o "$dir/o.csv"
+expect binary-file 65 "$dir/binary.csv:1: missing column 'time_s'" -- replay --no-dds "$dir/binary.csv" -o "$dir/o.csv"
+expect no-such-file 66 "cannot open $dir/none.csv: No such file or directory" -- replay --no-dds "$dir/none.csv"
+expect bad-config 78 "$dir/bad.toml:2:" -- replay --no-dds "$dir/malformed.csv" --config "$dir/bad.toml"
+expect bad-method 64 "'q' is not a method" -- replay --no-dds "$dir/malformed.csv" --method q
+expect unwritable-output 73 "cannot create /nonexistent/o.csv" -- replay --no-dds "$dir/malformed.csv" -o /nonexistent/o.csv
 expect allan-bad-axis 64 "'q' is not x, y, z or all" -- allan "$dir/malformed.csv" --axis q
 printf "%s\n0,1,2,3\n0.1,1,2,3\n" "$hdr" >"$dir/short.csv"
 expect allan-too-short 65 "too few samples for an Allan analysis" -- allan "$dir/short.csv" --axis z
 expect unknown-scenario 64 "unknown scenario 'moon'" -- simulate --scenario moon --output-dir "$dir/sim"
 
 # Estimates before a bad line are kept: the malformed file's first sample was written.
-"$headingd" replay "$dir/malformed.csv" -o "$dir/kept.csv" -q 2>/dev/null
+"$headingd" replay --no-dds "$dir/malformed.csv" -o "$dir/kept.csv" -q 2>/dev/null
 if [ "$(wc -l <"$dir/kept.csv")" -ne 2 ]; then
   echo "FAIL kept-before-error: expected header + 1 row in output"; failures=$((failures + 1))
 else

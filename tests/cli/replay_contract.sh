@@ -9,7 +9,7 @@ trap 'rm -rf "$dir"' EXIT
 input="$root/../shared/data/broad-05/imu.csv"
 [ -f "$input" ] || input="$root/tests/data/broad-05-excerpt/imu.csv"
 
-"$headingd" replay "$input" --method c --output "$dir/est.csv"
+"$headingd" replay --no-dds "$input" --method c --output "$dir/est.csv"
 want='time_s,heading_deg,qw,qx,qy,qz,bias_x_dps,bias_y_dps,bias_z_dps,heading_sigma_deg,still'
 got="$(head -n 1 "$dir/est.csv")"
 [ "$got" = "$want" ] || { echo "header is '$got'"; exit 1; }
@@ -22,7 +22,7 @@ awk -F, 'NR > 2 { dt = $1 - prev; if (dt < 0.096 || dt > 0.104) { print "bad spa
          NR > 1 { prev = $1; if ($11 != 0 && $11 != 1) { print "bad still at row " NR; bad = 1 } }
          END { exit bad }' "$dir/est.csv"
 # --output-rate 0 writes every sample.
-"$headingd" replay "$input" --output-rate 0 --output "$dir/all.csv" --quiet
+"$headingd" replay --no-dds "$input" --output-rate 0 --output "$dir/all.csv" --quiet
 all=$(($(wc -l <"$dir/all.csv") - 1))
 samples=$(grep -vc '^#' "$input")
 [ "$all" -eq "$samples" ] || { echo "every-sample output has $all rows for $samples samples"; exit 1; }

@@ -1,0 +1,62 @@
+#include "daemon/dds_participant.hpp"
+
+#include <ctime>
+#include <stdexcept>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastrtps/utils/IPLocator.h>
+
+namespace headingd::app {
+
+using namespace eprosima::fastdds::dds;
+using eprosima::fastrtps::rtps::DiscoveryProtocol_t;
+using eprosima::fastrtps::rtps::IPLocator;
+using eprosima::fastrtps::rtps::Locator_t;
+using eprosima::fastrtps::rtps::RemoteServerAttributes;
+
+namespace {
+// The GUID prefix `fastdds discovery -i 0` serves under (Fast DDS documentation).
+constexpr const char* kServerZeroPrefix = "44.53.00.5f.45.50.52.4f.53.49.4d.41";
+}  // namespace
+
+double wall_now_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+}
+
+DomainParticipant* create_participant(const DdsSettings& settings, const std::string& name) {
+  auto* factory = DomainParticipantFactory::get_instance();
+  if (settings.profiles_xml && factory->load_XML_profiles_file(*settings.profiles_xml) != ReturnCode_t::RETCODE_OK) {
+    throw std::runtime_error("cannot load Fast DDS XML profiles from " + *settings.profiles_xml);
+  }
+  DomainParticipantQos qos = factory->get_default_participant_qos();
+  qos.name(name);
+  if (settings.discovery_server) {
+    const auto& text = *settings.discovery_server;
+    const auto colon = text.rfind(':');
+    if (colon == std::string::npos) throw std::runtime_error("discovery_server must be HOST:PORT, got '" + text + "'");
+    Locator_t locator;
+    IPLocator::setIPv4(locator, text.substr(0, colon));
+    locator.port = static_cast<std::uint32_t>(std::stoul(text.substr(colon + 1)));
+    RemoteServerAttributes server;
+    server.ReadguidPrefix(kServerZeroPrefix);
+    server.metatrafficUnicastLocatorList.push_back(locator);
+    qos.wire_protocol().builtin.discovery_config.discoveryProtocol = DiscoveryProtocol_t::CLIENT;
+    qos.wire_protocol().builtin.discovery_config.m_DiscoveryServers.push_back(server);
+  }
+  auto* participant = factory->create_participant(static_cast<DomainId_t>(settings.domain_id), qos);
+  if (participant == nullptr) {
+    throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(settings.domain_id));
+  }
+  return participant;
+}
+
+void delete_participant(DomainParticipant* participant) {
+  if (participant == nullptr) return;
+  participant->delete_contained_entities();
+  DomainParticipantFactory::get_instance()->delete_participant(participant);
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,28 @@
+#pragma once
+#include <optional>
+#include <string>
+
+#include "daemon/command_validator.hpp"
+
+namespace headingd::app {
+
+struct DdsSettings {
+  int domain_id = 0;                    // [0, 232]
+  std::string prefix = "headingd";      // topics PREFIX/orientation, /bias, /status, /command
+  bool ros2_naming = false;             // our topics as ROS 2 names them on the wire: rt/PREFIX/...
+  bool publish_imu = true;              // sensor_msgs/msg/Imu on rt/IMU_TOPIC
+  std::string imu_topic = "imu";
+  std::string frame_id = "imu_link";
+  double orientation_rate_hz = 50.0;    // Orientation and Imu messages per second (0, 1000]
+  bool orientation_reliable = false;    // false: best-effort (latest wins); true: reliable
+  std::optional<std::string> profiles_xml;      // Fast DDS XML profiles (override our QoS)
+  std::optional<std::string> discovery_server;  // HOST:PORT of a Fast DDS Discovery Server
+  CommandLimits command_limits;
+};
+
+// The topic name for one of our topics, with the naming in force.
+inline std::string topic_name(const DdsSettings& s, const std::string& leaf) {
+  return (s.ros2_naming ? "rt/" : "") + s.prefix + "/" + leaf;
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,8 @@
+#pragma once
+#include <atomic>
+// SIGINT and SIGTERM set a flag; the loops act on it (and shut down in order).
+namespace headingd::app {
+void install_stop_signals();
+bool stop_requested();
+const std::atomic<bool>& stop_flag();
+}  // namespace headingd::app
