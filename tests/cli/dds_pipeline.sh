@@ -24,17 +24,18 @@ head -n $((4 + 12 * 400)) "$root/tests/data/agv-1min/imu.csv" >"$dir/imu.csv"
 
 "$headingd" echo orientation bias status --reliable --json -c "$dir/cfg.toml" --timeout 40 >"$dir/a.out" 2>"$dir/a.err" &
 pids+=($!)
-"$headingd" replay "$dir/imu.csv" --speed realtime --wait-subscribers 10 --linger 4 -c "$dir/cfg.toml" -o /dev/null 2>"$dir/replay.err" &
+"$headingd" replay "$dir/imu.csv" --speed realtime --wait-subscribers 10 --linger 10 -c "$dir/cfg.toml" -o /dev/null 2>"$dir/replay.err" &
 replay=$!
+replay_start=$(date +%s)
 pids+=($replay)
 sleep 5
 "$headingd" command set-heading --heading-deg 90 -c "$dir/cfg.toml" || fail "valid command not sent"
 "$headingd" command set-heading --heading-rad nan -c "$dir/cfg.toml" || fail "NaN command not sent"
 "$headingd" command set-heading --heading-deg 45 --stamp-offset -60 -c "$dir/cfg.toml" || fail "stale command not sent"
-# The recording ends after 12 s; replay lingers 4 s more without publishing anything new.
-sleep 9
+# The recording ends after 12 s; replay lingers 10 s more without publishing anything new.
+while [ $(($(date +%s) - replay_start)) -lt 15 ]; do sleep 0.2; done
 late_start=$(date +%s.%N)
-"$headingd" echo bias status --json -c "$dir/cfg.toml" --count 2 --timeout 3 >"$dir/late.out" 2>&1
+"$headingd" echo bias status --json -c "$dir/cfg.toml" --count 2 --timeout 6 >"$dir/late.out" 2>&1
 wait "$replay" || fail "replay exited $?: $(cat "$dir/replay.err")"
 sleep 1
 kill -INT "${pids[0]}"; wait "${pids[0]}"
