@@ -32,6 +32,10 @@ DomainParticipant* create_participant(const DdsSettings& settings, const std::st
     throw std::runtime_error("cannot load Fast DDS XML profiles from " + *settings.profiles_xml);
   }
   DomainParticipantQos qos = factory->get_default_participant_qos();
+  // A participant profile named "headingd" in the XML file, if any, is ours.
+  DomainParticipantQos from_profile;
+  if (settings.profiles_xml && factory->get_participant_qos_from_profile("headingd", from_profile) == ReturnCode_t::RETCODE_OK)
+    qos = from_profile;
   qos.name(name);
   if (settings.discovery_server) {
     const auto& text = *settings.discovery_server;

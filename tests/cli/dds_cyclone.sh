@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# A Cyclone DDS subscriber (idlc-generated types) reads headingd's Orientation and the ROS 2
+# Imu topic published by Fast DDS, over UDP on 127.0.0.1.
+set -uo pipefail
+headingd="$1"
+subscriber="$2"
+root="$3"
+dir="$(mktemp -d)"
+trap 'kill $replay 2>/dev/null; rm -rf "$dir"' EXIT
+printf '[dds]\ndomain_id = 44\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$root" >"$dir/cfg.toml"
+export CYCLONEDDS_URI="file://$root/tests/interop/cyclone.xml"
+"$headingd" replay "$root/tests/data/agv-1min/imu.csv" --speed 4 --wait-subscribers 20 -c "$dir/cfg.toml" -o /dev/null -q &
+replay=$!
+"$subscriber" 44 headingd/orientation rt/imu 50 30 >"$dir/sub.out" 2>&1
+rc=$?
+cat "$dir/sub.out"
+[ "$rc" -eq 0 ] || { echo "FAIL: the Cyclone subscriber did not get 50 of each"; exit 1; }
+grep -q "frame_id 'imu_link'" "$dir/sub.out" && grep -q "linear_acceleration_covariance\[0\] -1" "$dir/sub.out" ||
+  { echo "FAIL: Imu fields"; exit 1; }
+echo "ok: Cyclone DDS read headingd's Orientation and the ROS 2 Imu topic"
