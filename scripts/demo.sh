@@ -11,7 +11,22 @@ recording="$HEADINGD_ROOT/data/agv-demo"
 out="$HEADINGD_ROOT/build/demo"
 mkdir -p "$out"
 
-"$headingd" replay --no-dds "$recording/imu.csv" --output "$out/estimates.csv"
+# The daemon's pipeline: replay publishes over DDS (loopback only) as the live daemon would,
+# and `headingd echo` shows what a navigation stack subscribing to it receives.
+cat >"$out/dds.toml" <<TOML
+[dds]
+profiles_xml = "$HEADINGD_ROOT/config/fastdds-loopback.xml"
+TOML
+"$headingd" echo orientation bias status -c "$out/dds.toml" --timeout 30 >"$out/echo.txt" 2>&1 &
+echo_pid=$!
+"$headingd" replay "$recording/imu.csv" --speed 10 --wait-subscribers 10 -c "$out/dds.toml" --output "$out/estimates.csv"
+kill -INT "$echo_pid" 2>/dev/null || true
+wait "$echo_pid" 2>/dev/null || true
+echo
+echo "What a DDS subscriber received ($(grep -c '^orientation' "$out/echo.txt") Orientation messages at 50 Hz; a few lines):"
+grep -m 2 '^orientation' "$out/echo.txt" || true
+grep -m 1 '^bias' "$out/echo.txt" || true
+grep '^status' "$out/echo.txt" | tail -n 1 || true
 echo
 echo "Estimates: $out/estimates.csv (first rows below)"
 head -n 4 "$out/estimates.csv"
