@@ -1,0 +1,44 @@
+#pragma once
+// The persisted estimator state, like chrony's drift file: bias per axis with its sigma, the
+// temperature it was measured at, and the temperature model's sums. Written atomically (temp
+// file, fsync, rename, fsync of the directory) so that a crash at any moment leaves the old or
+// the new file, never a broken one; read back with a checksum, so a corrupt, truncated or
+// foreign file is reported and ignored.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "core/sample.hpp"
+#include "core/temperature_model.hpp"
+
+namespace headingd::app {
+
+struct SavedState {
+  core::Vec3 bias_dps = core::Vec3::Zero();
+  core::Vec3 bias_sigma_dps = core::Vec3::Zero();
+  double temp_c = 0.0;  // NaN when unknown
+  std::array<core::TemperatureModel::Sums, 3> temperature_sums{};
+  std::array<std::uint32_t, 3> temperature_points{};
+  double saved_unix_s = 0.0;
+};
+
+class StateError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// For tests: the write stops (throws SimulatedCrash) right after step `crash_after` of
+// 0 create temp, 1 write half, 2 write rest, 3 fsync, 4 close, 5 rename, 6 fsync directory.
+struct SimulatedCrash {
+  int step;
+};
+
+void save_state(const std::string& path, const SavedState& state, int crash_after = -1);
+// Throws StateError naming the file and what is wrong with it.
+SavedState load_state(const std::string& path);
+std::string format_state(const SavedState& state);
+SavedState parse_state(const std::string& text, const std::string& name);
+
+}  // namespace headingd::app

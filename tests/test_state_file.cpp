@@ -1,0 +1,95 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "daemon/state_file.hpp"
+#include "temp_dir.hpp"
+
+using namespace headingd::app;
+using headingd::test::TempDir;
+
+namespace {
+
+SavedState sample_state(double z) {
+  SavedState s;
+  s.bias_dps = headingd::core::Vec3(0.351234567890123, -0.2, z);
+  s.bias_sigma_dps = headingd::core::Vec3(0.01, 0.02, 0.0012345);
+  s.temp_c = 31.5;
+  s.saved_unix_s = 1.7e9;
+  s.temperature_points = {10, 11, 12};
+  s.temperature_sums[2].normal << 5, 1, 2, 1, 3, 4, 2, 4, 6;
+  s.temperature_sums[2].rhs << 0.1, 0.2, 0.3;
+  s.temperature_sums[2].yy = 0.04;
+  s.temperature_sums[2].weight = 5;
+  return s;
+}
+
+std::string read(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace
+
+TEST(StateFile, RoundTripIsExact) {
+  TempDir dir;
+  const auto path = dir.path("state");
+  const SavedState saved = sample_state(-0.455123456789012);
+  save_state(path, saved);
+  const SavedState loaded = load_state(path);
+  EXPECT_EQ(loaded.bias_dps, saved.bias_dps);  // bit for bit: %.17g round-trips a double
+  EXPECT_EQ(loaded.bias_sigma_dps, saved.bias_sigma_dps);
+  EXPECT_EQ(loaded.temp_c, saved.temp_c);
+  EXPECT_EQ(loaded.temperature_sums[2].normal, saved.temperature_sums[2].normal);
+  EXPECT_EQ(loaded.temperature_points[2], 12u);
+}
+
+TEST(StateFile, CrashAtAnyStepLeavesOldOrNewNeverBroken) {
+  for (int crash = 0; crash <= 6; ++crash) {
+    TempDir dir;
+    const auto path = dir.path("state");
+    save_state(path, sample_state(-0.4));
+    try {
+      save_state(path, sample_state(-0.5), crash);
+    } catch (const SimulatedCrash&) {
+    }
+    SavedState loaded;
+    ASSERT_NO_THROW(loaded = load_state(path)) << "crash after step " << crash;
+    EXPECT_TRUE(loaded.bias_dps.z() == -0.4 || loaded.bias_dps.z() == -0.5) << "crash after step " << crash;
+    if (crash < 5) {
+      EXPECT_EQ(loaded.bias_dps.z(), -0.4) << "before the rename the old state stands";
+    } else {
+      EXPECT_EQ(loaded.bias_dps.z(), -0.5);
+    }
+  }
+}
+
+TEST(StateFile, CorruptTruncatedForeignAndMissingAreRejectedClearly) {
+  TempDir dir;
+  const auto path = dir.path("state");
+  save_state(path, sample_state(-0.4));
+  const std::string good = read(path);
+
+  auto expect_error = [&](const std::string& contents, const std::string& phrase) {
+    const auto p = dir.file("bad", contents);
+    try {
+      load_state(p);
+      ADD_FAILURE() << "accepted: " << contents.substr(0, 40);
+    } catch (const StateError& error) {
+      EXPECT_NE(std::string(error.what()).find(phrase), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find(p), std::string::npos) << error.what();
+    }
+  };
+  std::string flipped = good;
+  flipped[good.find("bias_dps=") + 10] = '7';
+  expect_error(flipped, "checksum mismatch");
+  expect_error(good.substr(0, good.size() / 2), "truncated");
+  expect_error("driftfile 1.234 5.6\n", "not a headingd state file");
+  expect_error("", "not a headingd state file");
+  try {
+    load_state(dir.path("none"));
+    FAIL();
+  } catch (const StateError& error) {
+    EXPECT_NE(std::string(error.what()).find("No such file"), std::string::npos);
+  }
+}
