@@ -34,6 +34,16 @@ class AutoEstimator {
   void set_motion_hint(MotionHint hint) { hint_ = hint; }
   // Restores a bias (after a restart) with its sigma; ends the start-up phase.
   void set_bias(const Vec3& bias_dps, const Vec3& sigma_dps);
+  // Restores the noise figures learned before a restart (unless configured): without them a
+  // restart that skips the start-up segment would have no scale for its stillness tests.
+  void set_noise(const Vec3& sigma_still_dps, const Vec3& arw_dps_rt_hz) {
+    if (!segments_.sigma_still_dps && (sigma_still_dps.array() > 0).all()) sigma_still_dps_ = sigma_still_dps;
+    if (!settings_.arw_dps_rt_hz && (arw_dps_rt_hz.array() > 0).all()) white_dps2_s_ = arw_dps_rt_hz.cwiseAbs2();
+  }
+  // Restores a learned temperature model (after a restart).
+  void restore_temperature_model(int axis, const TemperatureModel::Sums& sums, std::uint32_t points) {
+    temperature_[static_cast<std::size_t>(axis)].restore(sums, points);
+  }
   // A heading fix at a reference point, with its variance.
   void set_heading(double heading_deg, double variance_deg2);
 

@@ -65,6 +65,14 @@ void Estimator::set_motion_hint(MotionHint hint) {
   if (auto* a = std::get_if<AutoEstimator>(&impl_)) a->set_motion_hint(hint);
 }
 
+void Estimator::restore_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
+  if (auto* a = std::get_if<AutoEstimator>(&impl_)) {
+    a->set_bias(bias_dps, sigma_dps);
+  } else {
+    std::get<PaperEstimator>(impl_).set_bias(bias_dps);
+  }
+}
+
 void Estimator::set_heading(double heading_deg, double variance_deg2) {
   if (auto* a = std::get_if<AutoEstimator>(&impl_)) {
     a->set_heading(heading_deg, variance_deg2);

@@ -38,6 +38,9 @@ class Estimator {
   bool in_startup() const;
 
   void set_motion_hint(MotionHint hint);
+  // Restores a bias with its sigma (after a restart): no calibration stop needed.
+  void restore_bias(const Vec3& bias_dps, const Vec3& sigma_dps);
+  AutoEstimator* automatic_mutable() { return std::get_if<AutoEstimator>(&impl_); }
   void set_heading(double heading_deg, double variance_deg2);
   // The auto estimator, when it is the method in force (for its model and noise figures).
   const AutoEstimator* automatic() const { return std::get_if<AutoEstimator>(&impl_); }

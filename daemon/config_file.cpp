@@ -202,6 +202,42 @@ void read_dds(const TableReader& r, DdsSettings& d) {
       "profiles_xml, discovery_server, command_max_age_s");
 }
 
+void read_sensor(const TableReader& r, SensorOptions& s) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "bus") s.bus = text_of(r.file(), node, key);
+        else if (name == "address") {
+          s.address = static_cast<int>(r.integer(node, key, 0x6A, 0x6B));
+        } else if (name == "rate_hz") {
+          s.rate_hz = static_cast<int>(r.integer(node, key, 100, 800));
+          if (s.rate_hz != 100 && s.rate_hz != 200 && s.rate_hz != 400 && s.rate_hz != 800)
+            fail(r.file(), node, key, "is " + shown(node) + ", allowed 100, 200, 400 or 800");
+        } else if (name == "bandwidth") s.bandwidth = static_cast<int>(r.integer(node, key, 0, 3));
+        else if (name == "full_scale_dps") {
+          s.full_scale_dps = static_cast<int>(r.integer(node, key, 245, 2000));
+          if (s.full_scale_dps != 245 && s.full_scale_dps != 500 && s.full_scale_dps != 2000)
+            fail(r.file(), node, key, "is " + shown(node) + ", allowed 245, 500 or 2000");
+        } else if (name == "watermark") s.watermark = static_cast<int>(r.integer(node, key, 1, 30));
+        else if (name == "gpio_chip") s.gpio_chip = text_of(r.file(), node, key);
+        else if (name == "gpio_line") s.gpio_line = r.integer(node, key, 0, 1023);
+        else if (name == "int2_active_low") s.int2_active_low = r.boolean(node, key);
+        else return false;
+        return true;
+      },
+      "bus, address, rate_hz, bandwidth, full_scale_dps, watermark, gpio_chip, gpio_line, int2_active_low");
+}
+
+void read_state(const TableReader& r, Config& c) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "path") c.state_path = text_of(r.file(), node, key);
+        else if (name == "save_interval_s") c.state_save_interval_s = r.number(node, key, 1.0, 86400.0, false);
+        else return false;
+        return true;
+      },
+      "path, save_interval_s");
+}
+
 Config interpret(const toml::table& root, const std::string& file) {
   Config config;
   for (const auto& [raw_key, node] : root) {
@@ -210,8 +246,12 @@ Config interpret(const toml::table& root, const std::string& file) {
       read_estimator(TableReader(file, as_table(file, node, key), "estimator."), config.estimator);
     } else if (key == "dds") {
       read_dds(TableReader(file, as_table(file, node, key), "dds."), config.dds);
+    } else if (key == "sensor") {
+      read_sensor(TableReader(file, as_table(file, node, key), "sensor."), config.sensor);
+    } else if (key == "state") {
+      read_state(TableReader(file, as_table(file, node, key), "state."), config);
     } else {
-      fail(file, node, key, "is not a known section (known: [estimator], [dds])");
+      fail(file, node, key, "is not a known section (known: [sensor], [estimator], [dds], [state])");
     }
   }
   if (const auto problem = core::validate(config.estimator)) {

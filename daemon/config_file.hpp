@@ -7,6 +7,7 @@
 
 #include "core/estimator.hpp"
 #include "daemon/dds_settings.hpp"
+#include "daemon/live_source.hpp"
 
 namespace headingd::app {
 
@@ -18,6 +19,9 @@ class ConfigError : public std::runtime_error {
 struct Config {
   core::EstimatorSettings estimator = core::kDefaultEstimatorSettings;
   DdsSettings dds;
+  SensorOptions sensor;
+  std::optional<std::string> state_path;  // persisted bias and temperature model
+  double state_save_interval_s = 60.0;
 };
 
 Config load_config(const std::string& path);

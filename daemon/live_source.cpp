@@ -24,6 +24,8 @@ LiveSource::LiveSource(const SensorOptions& options) : options_(options) {
     sim.address = settings.address;
     sim.rate_error = options.sim_rate_error;
     simulator_ = std::make_unique<drivers::L3gd20hSimulator>(sim, *options.simulated_chip, options.sim_seed);
+    simulator_->set_realtime(options.sim_realtime);
+    if (options.sim_dead_after_s >= 0) simulator_->inject_dead_after(static_cast<std::int64_t>(options.sim_dead_after_s * 1e9));
     bus = simulator_.get();
     ready = simulator_.get();
   } else {

@@ -29,6 +29,8 @@ void add_sensor_options(CLI::App* cmd, app::SensorOptions& s) {
   cmd->add_option("--simulated-chip", s.simulated_chip)->group("");
   cmd->add_option("--sim-seed", s.sim_seed)->group("");
   cmd->add_option("--sim-rate-error", s.sim_rate_error)->group("");
+  cmd->add_flag("--sim-realtime", s.sim_realtime)->group("");
+  cmd->add_option("--sim-dead-after", s.sim_dead_after_s)->group("");
 }
 
 }  // namespace
@@ -87,6 +89,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--output-rate", run.output_rate_hz, "Rows per second; 0 = every sample")->capture_default_str();
   run_cmd->add_option("--record", run.record_path, "Also record the samples to this native CSV");
   run_cmd->add_option("--duration", run.duration_s, "Stop after this many seconds (default: at SIGINT/SIGTERM)");
+  run_cmd->add_option("--state", run.state_path, "Persisted bias file (overrides [state] path)");
+  run_cmd->add_flag("!--no-dds", run.publish, "Do not publish over DDS");
 
   app::SensorOptions record_sensor;
   std::string record_output;
@@ -131,7 +135,12 @@ int main(int argc, char** argv) {
   if (simulate_cmd->parsed()) return app::run_simulate(simulate);
   if (score_cmd->parsed()) return app::run_score(score);
   if (allan_cmd->parsed()) return app::run_allan(allan);
-  if (run_cmd->parsed()) return app::run_live(run);
+  if (run_cmd->parsed()) {
+    for (const auto* option : run_cmd->get_options())
+      if (option->count() > 0)
+        for (const auto& name : option->get_lnames()) run.sensor_given.insert("--" + name);
+    return app::run_live(run);
+  }
   if (echo_cmd->parsed()) return app::run_echo(echo);
   if (command_cmd->parsed()) return app::run_command(command);
   if (record_cmd->parsed()) return app::run_record(record_sensor, record_output, record_duration_s);

@@ -13,6 +13,12 @@
 #include "daemon/estimates_writer.hpp"
 #include "daemon/exit_codes.hpp"
 #include "daemon/signals.hpp"
+#include "daemon/dds_node.hpp"
+#include "daemon/dds_participant.hpp"
+#include "daemon/notify.hpp"
+#include "daemon/state_file.hpp"
+#include <chrono>
+#include <limits>
 
 namespace headingd::app {
 namespace {
@@ -72,14 +78,78 @@ std::unique_ptr<LiveSource> open_source(const SensorOptions& sensor, int& exit_c
 
 }  // namespace
 
-int run_live(const RunOptions& options) {
-  core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
+namespace {
+
+SensorOptions merged_sensor(const SensorOptions& file, const RunOptions& options) {
+  SensorOptions s = file;
+  const SensorOptions& cli = options.sensor;
+  const auto given = [&](const char* name) { return options.sensor_given.count(name) > 0; };
+  if (given("--bus")) s.bus = cli.bus;
+  if (given("--address")) s.address = cli.address;
+  if (given("--rate")) s.rate_hz = cli.rate_hz;
+  if (given("--bandwidth")) s.bandwidth = cli.bandwidth;
+  if (given("--full-scale")) s.full_scale_dps = cli.full_scale_dps;
+  if (given("--watermark")) s.watermark = cli.watermark;
+  if (given("--gpio-chip")) s.gpio_chip = cli.gpio_chip;
+  if (given("--gpio-line")) s.gpio_line = cli.gpio_line;
+  if (given("--int2-active-low")) s.int2_active_low = cli.int2_active_low;
+  s.simulated_chip = cli.simulated_chip;
+  s.sim_seed = cli.sim_seed;
+  s.sim_rate_error = cli.sim_rate_error;
+  s.sim_realtime = cli.sim_realtime;
+  s.sim_dead_after_s = cli.sim_dead_after_s;
+  return s;
+}
+
+SavedState snapshot(const core::Estimator& estimator) {
+  SavedState state;
+  const auto& last = estimator.last();
+  state.bias_dps = last.bias_dps;
+  state.bias_sigma_dps = last.bias_sigma_dps.allFinite() ? last.bias_sigma_dps : core::Vec3::Constant(0.01);
+  state.temp_c = std::numeric_limits<double>::quiet_NaN();
+  if (const auto* a = estimator.automatic()) {
+    state.sigma_still_dps = a->sigma_still_dps();
+    state.arw_dps_rt_hz = a->noise_density_dps_rt_hz();
+    for (int axis = 0; axis < 3; ++axis) {
+      state.temperature_sums[static_cast<std::size_t>(axis)] = a->temperature_model(axis).sums();
+      state.temperature_points[static_cast<std::size_t>(axis)] = a->temperature_model(axis).points();
+    }
+  }
+  state.saved_unix_s = wall_now_s();
+  return state;
+}
+
+void restore(core::Estimator& estimator, const SavedState& state) {
+  estimator.restore_bias(state.bias_dps, state.bias_sigma_dps);
+  if (auto* a = estimator.automatic_mutable()) {
+    a->set_noise(state.sigma_still_dps, state.arw_dps_rt_hz);
+    for (int axis = 0; axis < 3; ++axis) {
+      a->restore_temperature_model(axis, state.temperature_sums[static_cast<std::size_t>(axis)],
+                                   state.temperature_points[static_cast<std::size_t>(axis)]);
+    }
+  }
+}
+
+void save_quietly(const std::optional<std::string>& path, const core::Estimator& estimator) {
+  if (!path || estimator.in_startup()) return;
   try {
-    if (options.config_path) settings = load_config(*options.config_path).estimator;
+    save_state(*path, snapshot(estimator));
+  } catch (const StateError& error) {
+    std::fprintf(stderr, "<4>headingd: %s\n", error.what());
+  }
+}
+
+}  // namespace
+
+int run_live(const RunOptions& options) {
+  Config config;
+  try {
+    if (options.config_path) config = load_config(*options.config_path);
   } catch (const ConfigError& error) {
     std::fprintf(stderr, "headingd: %s\n", error.what());
     return kExitConfig;
   }
+  core::EstimatorSettings settings = config.estimator;
   if (options.method) {
     const auto method = core::parse_method(*options.method);
     if (!method) {
@@ -88,13 +158,39 @@ int run_live(const RunOptions& options) {
     }
     settings.method = *method;
   }
-  int exit_code = kExitOk;
-  auto source = open_source(options.sensor, exit_code);
-  if (!source) return exit_code;
+  const std::optional<std::string> state_path = options.state_path ? options.state_path : config.state_path;
+
+  // Start-up, in order; shutdown undoes it in reverse.
   install_stop_signals();
+  Notifier notifier;
+  notifier.status("starting: opening the sensor");
+  int exit_code = kExitOk;
+  auto source = open_source(merged_sensor(config.sensor, options), exit_code);
+  if (!source) return exit_code;
   source->driver().set_stop_flag(&stop_flag());
 
   core::Estimator estimator(settings);
+  if (state_path) {
+    try {
+      restore(estimator, load_state(*state_path));
+      std::fprintf(stderr, "<6>headingd: bias restored from %s\n", state_path->c_str());
+    } catch (const StateError& error) {
+      std::fprintf(stderr, "<5>headingd: %s\n", error.what());
+    }
+  }
+  std::unique_ptr<DdsNode> node;
+  if (options.publish) {
+    try {
+      node = std::make_unique<DdsNode>(config.dds);
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "headingd: DDS: %s\n", error.what());
+      return kExitSoftware;
+    }
+  }
+
+  const auto started = std::chrono::steady_clock::now();
+  auto last_save = started;
+  auto last_status = started;
   try {
     std::unique_ptr<CsvOut> out;
     std::unique_ptr<EstimatesWriter> writer;
@@ -107,15 +203,55 @@ int run_live(const RunOptions& options) {
     if (options.record_path) recorder = std::make_unique<Recorder>(*options.record_path, source->header_comment());
     std::vector<core::Sample> batch(64);
     double first_t_s = NAN;
+    double wall_offset_s = 0.0;
+    StatusReport report;
     while (const std::size_t n = source->driver().read(batch)) {
+      const auto& counters = source->driver().counters();
       for (std::size_t i = 0; i < n; ++i) {
-        if (std::isnan(first_t_s)) first_t_s = batch[i].t_s;
+        if (std::isnan(first_t_s)) {
+          first_t_s = batch[i].t_s;
+          wall_offset_s = wall_now_s() - first_t_s;
+        }
         if (recorder) recorder->add(batch[i]);
+        if (node) {
+          for (const auto& command : node->take_commands()) {
+            if (command.kind == CommandKind::SetHeading) estimator.set_heading(command.heading_deg, command.variance_deg2);
+            else estimator.set_motion_hint(command.hint);
+          }
+        }
         const auto& estimate = estimator.update(batch[i]);
         if (writer) writer->add(estimate);
+        if (node) {
+          report.state = counters.recoveries > 0 && counters.samples < 400 ? 2 : 1;  // DEGRADED right after a fault
+          report.sample_rate_hz = source->driver().rate_hz();
+          report.samples_received = counters.samples;
+          report.samples_dropped = counters.lost_samples;
+          report.bus_errors = counters.bus_errors;
+          report.fifo_overruns = counters.overruns;
+          report.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+          node->publish(estimate, estimator, report, wall_offset_s);
+        }
+      }
+      notifier.ready();  // after the first good sample
+      notifier.sample_loop_alive();
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_status >= std::chrono::seconds(10)) {
+        last_status = now;
+        char text[200];
+        std::snprintf(text, sizeof text, "heading %.2f deg (sigma %.2f), bias z %+.4f dps, %llu samples, %llu bus errors",
+                      estimator.last().heading_deg, estimator.last().heading_sigma_deg, estimator.last().bias_dps.z(),
+                      static_cast<unsigned long long>(counters.samples),
+                      static_cast<unsigned long long>(counters.bus_errors));
+        notifier.status(text);
+      }
+      if (now - last_save >= std::chrono::duration<double>(config.state_save_interval_s)) {
+        last_save = now;
+        save_quietly(state_path, estimator);
       }
       if (options.duration_s > 0 && batch[n - 1].t_s - first_t_s >= options.duration_s) break;
     }
+    notifier.stopping();
+    save_quietly(state_path, estimator);
     if (writer) writer->finish();
     if (out) out->close();
     if (recorder) recorder->finish(source->driver());
@@ -123,6 +259,7 @@ int run_live(const RunOptions& options) {
     std::fprintf(stderr, "headingd: %s\n", error.what());
     return kExitCantCreate;
   }
+  node.reset();
   const auto& last = estimator.last();
   std::fprintf(stderr, "headingd run: %s\n", stop_requested() ? "stopped by signal" : "done");
   print_counters(source->driver());

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
@@ -52,6 +53,8 @@ std::string format_state(const SavedState& s) {
   body << "bias_dps=" << numbers({s.bias_dps.x(), s.bias_dps.y(), s.bias_dps.z()}) << "\n";
   body << "bias_sigma_dps=" << numbers({s.bias_sigma_dps.x(), s.bias_sigma_dps.y(), s.bias_sigma_dps.z()}) << "\n";
   body << "temp_c=" << numbers({s.temp_c}) << "\n";
+  body << "sigma_still_dps=" << numbers({s.sigma_still_dps.x(), s.sigma_still_dps.y(), s.sigma_still_dps.z()}) << "\n";
+  body << "arw_dps_rt_hz=" << numbers({s.arw_dps_rt_hz.x(), s.arw_dps_rt_hz.y(), s.arw_dps_rt_hz.z()}) << "\n";
   for (int a = 0; a < 3; ++a) {
     const auto& t = s.temperature_sums[static_cast<std::size_t>(a)];
     body << "temperature_model_" << "xyz"[a] << "=" << s.temperature_points[static_cast<std::size_t>(a)] << " "
@@ -84,7 +87,12 @@ SavedState parse_state(const std::string& text, const std::string& name) {
     if (eq == std::string::npos) fail("malformed line '" + line + "'");
     std::istringstream values(line.substr(eq + 1));
     std::vector<double> v;
-    for (double x; values >> x;) v.push_back(x);
+    for (std::string token; values >> token;) {
+      char* end = nullptr;
+      const double x = std::strtod(token.c_str(), &end);  // also reads "nan"
+      if (end == token.c_str() || *end != '\0') fail("field " + line.substr(0, eq) + ": '" + token + "' is not a number");
+      v.push_back(x);
+    }
     fields[line.substr(0, eq)] = v;
   }
   const auto need = [&](const std::string& key, std::size_t n) -> const std::vector<double>& {
@@ -102,6 +110,10 @@ SavedState parse_state(const std::string& text, const std::string& name) {
       s.bias_dps.cwiseAbs().maxCoeff() > 100.0)
     fail("bias values out of range");
   s.temp_c = need("temp_c", 1)[0];
+  const auto& ss = need("sigma_still_dps", 3);
+  const auto& arw = need("arw_dps_rt_hz", 3);
+  s.sigma_still_dps = core::Vec3(ss[0], ss[1], ss[2]);
+  s.arw_dps_rt_hz = core::Vec3(arw[0], arw[1], arw[2]);
   for (int a = 0; a < 3; ++a) {
     const auto& t = need(std::string("temperature_model_") + "xyz"[a], 12);
     auto& sums = s.temperature_sums[static_cast<std::size_t>(a)];

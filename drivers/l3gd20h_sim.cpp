@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <thread>
 
 #include "drivers/l3gd20h_registers.hpp"
 
@@ -165,7 +166,15 @@ void L3gd20hSimulator::bus_time(std::size_t bytes) {
   advance_to(clock_ns_ + kTransactionOverheadNs + std::llround(bits / settings_.bus_hz * 1e9));
 }
 
+void L3gd20hSimulator::pace(std::int64_t simulated_ns) {
+  if (realtime_ && simulated_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(simulated_ns));
+}
+
 void L3gd20hSimulator::check_faults() {
+  if (dead_after_ns_ >= 0 && clock_ns_ >= dead_after_ns_) {
+    advance_to(clock_ns_ + kTransactionOverheadNs);
+    throw I2cError(I2cError::Kind::NoAck, EREMOTEIO, "simulated bus: Remote I/O error (sensor dead)");
+  }
   if (timeout_ > 0) {
     --timeout_;
     advance_to(clock_ns_ + 25'000'000);  // the adapter gives up after its timeout
@@ -278,6 +287,12 @@ void L3gd20hSimulator::write(std::uint8_t address, std::span<const std::uint8_t>
 }
 
 std::optional<std::int64_t> L3gd20hSimulator::wait(std::chrono::nanoseconds timeout) {
+  const std::int64_t entered_ns = clock_ns_;
+  struct Pace {
+    L3gd20hSimulator& sim;
+    std::int64_t from;
+    ~Pace() { sim.pace(sim.clock_ns_ - from); }
+  } pace_on_exit{*this, entered_ns};
   if (stall_ns_ > 0) {
     advance_to(clock_ns_ + stall_ns_);
     stall_ns_ = 0;
@@ -295,6 +310,9 @@ std::optional<std::int64_t> L3gd20hSimulator::wait(std::chrono::nanoseconds time
   return edge;
 }
 
-void L3gd20hSimulator::sleep(std::chrono::nanoseconds duration) { advance_to(clock_ns_ + duration.count()); }
+void L3gd20hSimulator::sleep(std::chrono::nanoseconds duration) {
+  advance_to(clock_ns_ + duration.count());
+  pace(duration.count());
+}
 
 }  // namespace headingd::drivers

@@ -54,6 +54,10 @@ class L3gd20hSimulator final : public I2cBus, public DataReady {
   void inject_stuck(std::int64_t duration_ns) { stuck_until_ns_ = clock_ns_ + duration_ns; }
   void inject_reset();                                    // brown-out: registers back to defaults
   void inject_stall(std::int64_t duration_ns) { stall_ns_ = duration_ns; }  // the host is late once
+  // From simulated time t_ns on, the chip stops answering for good (a dead sensor).
+  void inject_dead_after(std::int64_t t_ns) { dead_after_ns_ = t_ns; }
+  // Waits and sleeps also take real time, so a process using the simulator runs at the chip's pace.
+  void set_realtime(bool realtime) { realtime_ = realtime; }
 
   // What happened, for tests.
   struct Write {
@@ -114,6 +118,9 @@ class L3gd20hSimulator final : public I2cBus, public DataReady {
   RawSample stuck_value_{};
   std::int64_t stall_ns_ = 0;
   bool i2c_disabled_ = false;
+  std::int64_t dead_after_ns_ = -1;
+  bool realtime_ = false;
+  void pace(std::int64_t simulated_ns);
   std::optional<std::int64_t> pending_edge_ns_;
 };
 

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <limits>
 
 #include "daemon/state_file.hpp"
 #include "temp_dir.hpp"
@@ -92,4 +94,13 @@ TEST(StateFile, CorruptTruncatedForeignAndMissingAreRejectedClearly) {
   } catch (const StateError& error) {
     EXPECT_NE(std::string(error.what()).find("No such file"), std::string::npos);
   }
+}
+
+TEST(StateFile, UnknownTemperatureRoundTrips) {
+  TempDir dir;
+  const auto path = dir.path("state");
+  SavedState s = sample_state(-0.4);
+  s.temp_c = std::numeric_limits<double>::quiet_NaN();
+  save_state(path, s);
+  EXPECT_TRUE(std::isnan(load_state(path).temp_c));
 }
