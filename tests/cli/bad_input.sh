@@ -41,6 +41,14 @@ expect empty-file 65 "$dir/empty.csv: file is empty" -- replay --no-dds "$dir/em
 expect binary-file 65 "$dir/binary.csv:1: missing column 'time_s'" -- replay --no-dds "$dir/binary.csv" -o "$dir/o.csv"
 expect no-such-file 66 "cannot open $dir/none.csv: No such file or directory" -- replay --no-dds "$dir/none.csv"
 expect bad-config 78 "$dir/bad.toml:2:" -- replay --no-dds "$dir/malformed.csv" --config "$dir/bad.toml"
+printf '[sensor]\nrate_hz = 300\n' >"$dir/bad-sensor.toml"
+printf '[state]\npath = 5\n' >"$dir/bad-state.toml"
+printf '[dds]\ndomain_id = 9999\n' >"$dir/bad-dds.toml"
+printf '[sensor]\nbuss = "/dev/i2c-1"\n' >"$dir/unknown-sensor.toml"
+expect run-bad-rate 78 "$dir/bad-sensor.toml:2:11: 'sensor.rate_hz' is 300, allowed 100, 200, 400 or 800" -- run --no-dds -c "$dir/bad-sensor.toml"
+expect run-bad-type 78 "$dir/bad-state.toml:2:8: 'state.path' must be a string, found 5" -- run --no-dds -c "$dir/bad-state.toml"
+expect run-bad-domain 78 "$dir/bad-dds.toml:2:13: 'dds.domain_id' is 9999, allowed [0, 232]" -- run --no-dds -c "$dir/bad-dds.toml"
+expect run-unknown-key 78 "$dir/unknown-sensor.toml:2:8: 'sensor.buss' is not a known key" -- run --no-dds -c "$dir/unknown-sensor.toml"
 expect bad-method 64 "'q' is not a method" -- replay --no-dds "$dir/malformed.csv" --method q
 expect unwritable-output 73 "cannot create /nonexistent/o.csv" -- replay --no-dds "$dir/malformed.csv" -o /nonexistent/o.csv
 expect allan-bad-axis 64 "'q' is not x, y, z or all" -- allan "$dir/malformed.csv" --axis q
