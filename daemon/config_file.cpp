@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "core/method.hpp"
+#include "daemon/log.hpp"
 
 namespace headingd::app {
 namespace {
@@ -248,10 +249,22 @@ Config interpret(const toml::table& root, const std::string& file) {
       read_dds(TableReader(file, as_table(file, node, key), "dds."), config.dds);
     } else if (key == "sensor") {
       read_sensor(TableReader(file, as_table(file, node, key), "sensor."), config.sensor);
+    } else if (key == "log") {
+      TableReader r(file, as_table(file, node, key), "log.");
+      r.each(
+          [&](const std::string& name, const toml::node& value, const std::string& full_key) {
+            if (name != "level") return false;
+            config.log_level = text_of(file, value, full_key);
+            LogPriority level;
+            if (!parse_log_level(config.log_level, level))
+              fail(file, value, full_key, "is " + shown(value) + ", allowed \"error\", \"warning\", \"notice\", \"info\" or \"debug\"");
+            return true;
+          },
+          "level");
     } else if (key == "state") {
       read_state(TableReader(file, as_table(file, node, key), "state."), config);
     } else {
-      fail(file, node, key, "is not a known section (known: [sensor], [estimator], [dds], [state])");
+      fail(file, node, key, "is not a known section (known: [sensor], [estimator], [dds], [state], [log])");
     }
   }
   if (const auto problem = core::validate(config.estimator)) {

@@ -22,6 +22,7 @@ struct Config {
   SensorOptions sensor;
   std::optional<std::string> state_path;  // persisted bias and temperature model
   double state_save_interval_s = 60.0;
+  std::string log_level = "info";
 };
 
 Config load_config(const std::string& path);

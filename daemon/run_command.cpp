@@ -16,6 +16,7 @@
 #include "daemon/dds_node.hpp"
 #include "daemon/dds_participant.hpp"
 #include "daemon/notify.hpp"
+#include "daemon/log.hpp"
 #include "daemon/state_file.hpp"
 #include <chrono>
 #include <limits>
@@ -135,8 +136,39 @@ void save_quietly(const std::optional<std::string>& path, const core::Estimator&
   try {
     save_state(*path, snapshot(estimator));
   } catch (const StateError& error) {
-    std::fprintf(stderr, "<4>headingd: %s\n", error.what());
+    log(LogPriority::Warning, "state write", error.what());
   }
+}
+
+// SIGHUP: new estimator settings and log level; heading, bias, noise figures and the
+// temperature model carry over, so nothing learned is lost.
+void reload(const std::optional<std::string>& config_path, const std::optional<std::string>& method,
+            std::unique_ptr<core::Estimator>& estimator) {
+  if (!config_path) {
+    log(LogPriority::Notice, "reload", "SIGHUP: no configuration file to reload");
+    return;
+  }
+  Config config;
+  try {
+    config = load_config(*config_path);
+  } catch (const ConfigError& error) {
+    log(LogPriority::Error, "reload", std::string("SIGHUP: ") + error.what() + "; keeping the running configuration");
+    return;
+  }
+  core::EstimatorSettings settings = config.estimator;
+  if (method) settings.method = estimator->method();  // the command line still wins
+  const SavedState kept = snapshot(*estimator);
+  const double heading_deg = estimator->last().heading_deg;
+  const double sigma_deg = estimator->last().heading_sigma_deg;
+  auto next = std::make_unique<core::Estimator>(settings);
+  restore(*next, kept);
+  next->set_heading(heading_deg, std::isfinite(sigma_deg) ? sigma_deg * sigma_deg : 0.0);
+  estimator = std::move(next);
+  LogPriority level;
+  if (parse_log_level(config.log_level, level)) set_log_level(level);
+  log(LogPriority::Notice, "reload",
+      "SIGHUP: configuration reloaded from " + *config_path + " (method " + std::string(core::method_name(settings.method)) +
+          ", log level " + config.log_level + "); heading and bias kept");
 }
 
 }  // namespace
@@ -159,6 +191,8 @@ int run_live(const RunOptions& options) {
     settings.method = *method;
   }
   const std::optional<std::string> state_path = options.state_path ? options.state_path : config.state_path;
+  LogPriority level;
+  if (parse_log_level(config.log_level, level)) set_log_level(level);
 
   // Start-up, in order; shutdown undoes it in reverse.
   install_stop_signals();
@@ -168,14 +202,17 @@ int run_live(const RunOptions& options) {
   auto source = open_source(merged_sensor(config.sensor, options), exit_code);
   if (!source) return exit_code;
   source->driver().set_stop_flag(&stop_flag());
+  source->driver().set_logger([](int priority, const std::string& key, const std::string& text) {
+    log(static_cast<LogPriority>(priority), key, text);
+  });
 
-  core::Estimator estimator(settings);
+  auto estimator_owner = std::make_unique<core::Estimator>(settings);
   if (state_path) {
     try {
-      restore(estimator, load_state(*state_path));
-      std::fprintf(stderr, "<6>headingd: bias restored from %s\n", state_path->c_str());
+      restore(*estimator_owner, load_state(*state_path));
+      log(LogPriority::Info, "state", "bias restored from " + *state_path);
     } catch (const StateError& error) {
-      std::fprintf(stderr, "<5>headingd: %s\n", error.what());
+      log(LogPriority::Notice, "state", error.what());
     }
   }
   std::unique_ptr<DdsNode> node;
@@ -215,11 +252,11 @@ int run_live(const RunOptions& options) {
         if (recorder) recorder->add(batch[i]);
         if (node) {
           for (const auto& command : node->take_commands()) {
-            if (command.kind == CommandKind::SetHeading) estimator.set_heading(command.heading_deg, command.variance_deg2);
-            else estimator.set_motion_hint(command.hint);
+            if (command.kind == CommandKind::SetHeading) estimator_owner->set_heading(command.heading_deg, command.variance_deg2);
+            else estimator_owner->set_motion_hint(command.hint);
           }
         }
-        const auto& estimate = estimator.update(batch[i]);
+        const auto& estimate = estimator_owner->update(batch[i]);
         if (writer) writer->add(estimate);
         if (node) {
           report.state = counters.recoveries > 0 && counters.samples < 400 ? 2 : 1;  // DEGRADED right after a fault
@@ -229,9 +266,10 @@ int run_live(const RunOptions& options) {
           report.bus_errors = counters.bus_errors;
           report.fifo_overruns = counters.overruns;
           report.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-          node->publish(estimate, estimator, report, wall_offset_s);
+          node->publish(estimate, *estimator_owner, report, wall_offset_s);
         }
       }
+      if (take_reload_request()) reload(options.config_path, options.method, estimator_owner);
       notifier.ready();  // after the first good sample
       notifier.sample_loop_alive();
       const auto now = std::chrono::steady_clock::now();
@@ -239,19 +277,19 @@ int run_live(const RunOptions& options) {
         last_status = now;
         char text[200];
         std::snprintf(text, sizeof text, "heading %.2f deg (sigma %.2f), bias z %+.4f dps, %llu samples, %llu bus errors",
-                      estimator.last().heading_deg, estimator.last().heading_sigma_deg, estimator.last().bias_dps.z(),
+                      estimator_owner->last().heading_deg, estimator_owner->last().heading_sigma_deg, estimator_owner->last().bias_dps.z(),
                       static_cast<unsigned long long>(counters.samples),
                       static_cast<unsigned long long>(counters.bus_errors));
         notifier.status(text);
       }
       if (now - last_save >= std::chrono::duration<double>(config.state_save_interval_s)) {
         last_save = now;
-        save_quietly(state_path, estimator);
+        save_quietly(state_path, *estimator_owner);
       }
       if (options.duration_s > 0 && batch[n - 1].t_s - first_t_s >= options.duration_s) break;
     }
     notifier.stopping();
-    save_quietly(state_path, estimator);
+    save_quietly(state_path, *estimator_owner);
     if (writer) writer->finish();
     if (out) out->close();
     if (recorder) recorder->finish(source->driver());
@@ -260,11 +298,11 @@ int run_live(const RunOptions& options) {
     return kExitCantCreate;
   }
   node.reset();
-  const auto& last = estimator.last();
+  const auto& last = estimator_owner->last();
   std::fprintf(stderr, "headingd run: %s\n", stop_requested() ? "stopped by signal" : "done");
   print_counters(source->driver());
   std::fprintf(stderr, "  estimator    %s; heading %+.3f deg, sigma %.3f deg; bias z %+.4f dps\n",
-               std::string(core::method_name(estimator.method())).c_str(), last.heading_deg, last.heading_sigma_deg,
+               std::string(core::method_name(estimator_owner->method())).c_str(), last.heading_deg, last.heading_sigma_deg,
                last.bias_dps.z());
   return kExitOk;
 }

@@ -185,9 +185,14 @@ void L3gd20h::housekeeping() {
   }
 }
 
+void L3gd20h::warn(const std::string& key, const std::string& text) {
+  if (logger_) logger_(4, key, text);
+  else std::fprintf(stderr, "<4>headingd: %s\n", text.c_str());
+}
+
 void L3gd20h::recover(const std::string& why) {
   ++counters_.recoveries;
-  std::fprintf(stderr, "<4>headingd: L3GD20H: %s; setting the chip up again\n", why.c_str());
+  warn("L3GD20H recovery", "L3GD20H: " + why + "; setting the chip up again");
   start();
 }
 
@@ -207,7 +212,7 @@ std::size_t L3gd20h::read(std::span<core::Sample> out) {
     } catch (const std::exception& error) {
       // Bus trouble past its retries, a stuck or reset chip: count it, pause, set up again.
       ++counters_.recoveries;
-      std::fprintf(stderr, "<4>headingd: L3GD20H: %s; retrying\n", error.what());
+      warn("L3GD20H fault", std::string("L3GD20H: ") + error.what() + "; retrying");
       started_ = false;
       ready_.sleep(milliseconds(100));
     }

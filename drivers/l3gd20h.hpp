@@ -8,6 +8,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -66,6 +67,9 @@ class L3gd20h final : public SampleSource {
   std::string describe() const override;
 
   void set_stop_flag(const std::atomic<bool>* stop) { stop_ = stop; }
+  // Where warnings go (priority as syslog's, a key grouping repeats, the text); stderr by default.
+  using Logger = std::function<void(int priority, const std::string& key, const std::string& text)>;
+  void set_logger(Logger logger) { logger_ = std::move(logger); }
   const DriverCounters& counters() const { return counters_; }
   double rate_hz() const { return clock_.rate_hz(); }
   double sensitivity_dps() const;
@@ -90,6 +94,8 @@ class L3gd20h final : public SampleSource {
   SampleClock clock_;
   DriverCounters counters_;
   const std::atomic<bool>* stop_ = nullptr;
+  Logger logger_;
+  void warn(const std::string& key, const std::string& text);
   std::array<std::uint8_t, 5> expected_ctrl_{};  // CTRL1..CTRL5 as written
   std::uint8_t expected_fifo_ctrl_ = 0;
   std::uint8_t expected_low_odr_ = 0;
