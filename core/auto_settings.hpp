@@ -48,6 +48,6 @@ struct AutoSettings {
   TemperatureModelSettings temperature = kDefaultTemperatureModelSettings;
 };
 
-inline constexpr AutoSettings kDefaultAutoSettings{};
+inline const AutoSettings kDefaultAutoSettings{};
 
 }  // namespace headingd::core

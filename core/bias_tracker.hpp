@@ -26,7 +26,7 @@ struct BiasSettings {
   bool still_at_start = true;
 };
 
-inline constexpr BiasSettings kDefaultBiasSettings{};
+inline const BiasSettings kDefaultBiasSettings{};
 
 // Empty when the settings are usable; otherwise names the offending field and why.
 std::optional<std::string> validate(const BiasSettings& settings);

@@ -37,6 +37,8 @@ class LiveSource {
   // Throws std::runtime_error (device missing, permission, wrong chip) with a clear message.
   explicit LiveSource(const SensorOptions& options);
   drivers::L3gd20h& driver() { return *driver_; }
+  // The simulator standing in for the chip, if one does (soak tests inject faults through it).
+  drivers::L3gd20hSimulator* simulator() { return simulator_.get(); }
   std::string header_comment() const;  // '#' lines naming sensor, settings, rate, sensitivity
 
  private:

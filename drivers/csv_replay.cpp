@@ -47,6 +47,17 @@ CsvReplaySource::CsvReplaySource(std::string path) : path_(std::move(path)), buf
   }
 }
 
+CsvReplaySource::CsvReplaySource(std::FILE* file, std::string name)
+    : path_(std::move(name)), file_(file), buffer_(kBufferBytes) {
+  if (file_ == nullptr) throw OpenError("cannot read " + path_ + ": no stream");
+  try {
+    read_header();
+  } catch (...) {
+    close();
+    throw;
+  }
+}
+
 CsvReplaySource::~CsvReplaySource() { close(); }
 
 void CsvReplaySource::close() {

@@ -23,6 +23,8 @@ class CsvReplaySource final : public SampleSource {
 
   // Opens the file and reads its header. Throws OpenError or InputError.
   explicit CsvReplaySource(std::string path);
+  // Reads an already open stream (a pipe, fmemopen in the fuzzers); takes ownership of it.
+  CsvReplaySource(std::FILE* file, std::string name);
   ~CsvReplaySource() override;
   CsvReplaySource(const CsvReplaySource&) = delete;
   CsvReplaySource& operator=(const CsvReplaySource&) = delete;

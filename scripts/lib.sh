@@ -10,6 +10,7 @@ HEADINGD_PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev
   gnuplot-nox
+  clang libclang-rt-14-dev
 )
 
 # Installs the named Debian packages that are not installed yet; does nothing when all are.

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's second command: installs what is missing, builds, and runs the whole test
-# suite with ctest — optimised first, then again under AddressSanitizer + UBSan.
-# Exits non-zero on any failure.
+# suite with ctest — optimised first, then again under AddressSanitizer + UBSan — and then each
+# libFuzzer target for HEADINGD_FUZZ_SECONDS (default 60). Exits non-zero on any failure.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
 ensure_packages "${HEADINGD_PACKAGES[@]}"
@@ -12,3 +12,9 @@ for preset in default asan; do
   build_preset "$preset"
   ctest --preset "$preset" -j "$jobs"
 done
+
+echo "== fuzz: each target ${HEADINGD_FUZZ_SECONDS:-60} s"
+cd "$HEADINGD_ROOT"
+cmake --preset fuzz -DHEADINGD_FUZZ_SECONDS="${HEADINGD_FUZZ_SECONDS:-60}" >/dev/null
+cmake --build --preset fuzz
+ctest --preset fuzz -j "$jobs"
