@@ -19,21 +19,21 @@ profiles_xml = "$root/config/fastdds-loopback.xml"
 orientation_reliable = true
 orientation_rate_hz = 20
 TOML
-# 12 s of the AGV recording: it stands still for its first 10 s.
-head -n $((4 + 12 * 400)) "$root/tests/data/agv-1min/imu.csv" >"$dir/imu.csv"
+# 20 s of a platform standing still (the simulator, 400 Hz).
+"$headingd" simulate --scenario still --seed 9 --hours 0.0055555556 --output-dir "$dir" 2>/dev/null || fail "simulate"
 
-"$headingd" echo orientation bias status --reliable --json -c "$dir/cfg.toml" --timeout 40 >"$dir/a.out" 2>"$dir/a.err" &
+"$headingd" echo orientation bias status --reliable --json -c "$dir/cfg.toml" --timeout 60 >"$dir/a.out" 2>"$dir/a.err" &
 pids+=($!)
 "$headingd" replay "$dir/imu.csv" --speed realtime --wait-subscribers 10 --linger 10 -c "$dir/cfg.toml" -o /dev/null 2>"$dir/replay.err" &
 replay=$!
 replay_start=$(date +%s)
 pids+=($replay)
-sleep 5
+sleep 4
 "$headingd" command set-heading --heading-deg 90 -c "$dir/cfg.toml" || fail "valid command not sent"
 "$headingd" command set-heading --heading-rad nan -c "$dir/cfg.toml" || fail "NaN command not sent"
 "$headingd" command set-heading --heading-deg 45 --stamp-offset -60 -c "$dir/cfg.toml" || fail "stale command not sent"
-# The recording ends after 12 s; replay lingers 10 s more without publishing anything new.
-while [ $(($(date +%s) - replay_start)) -lt 15 ]; do sleep 0.2; done
+# The recording ends after 20 s; replay lingers 10 s more without publishing anything new.
+while [ $(($(date +%s) - replay_start)) -lt 23 ]; do sleep 0.2; done
 late_start=$(date +%s.%N)
 "$headingd" echo bias status --json -c "$dir/cfg.toml" --count 2 --timeout 6 >"$dir/late.out" 2>&1
 wait "$replay" || fail "replay exited $?: $(cat "$dir/replay.err")"
@@ -41,9 +41,9 @@ sleep 1
 kill -INT "${pids[0]}"; wait "${pids[0]}"
 
 grep -q '"topic":"orientation"' "$dir/a.out" || fail "no orientation: $(head -3 "$dir/a.err")"
-# Orientation: seq 1..N without a gap, N = 12 s x 20 Hz.
+# Orientation: seq 1..N without a gap, N = 20 s x 20 Hz.
 awk -F'"seq":' '/"topic":"orientation"/ { split($2, a, ","); s = a[1] + 0; if (s != ++n) { print "gap at " n ": seq " s; bad = 1; exit } }
-     END { print "orientation messages: " n; if (n < 235 || n > 245) { print "expected about 240"; bad = 1 }; exit bad }' "$dir/a.out" ||
+     END { print "orientation messages: " n; if (n < 395 || n > 405) { print "expected about 400"; bad = 1 }; exit bad }' "$dir/a.out" ||
   fail "orientation stream"
 grep -q '"topic":"bias"' "$dir/a.out" || fail "no GyroBias"
 grep -q '"topic":"status"' "$dir/a.out" || fail "no Status"
