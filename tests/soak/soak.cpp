@@ -184,7 +184,13 @@ int main(int argc, char** argv) {
   check(c.chip_resets == injected.resets, "every chip reset counted");
   check(c.overruns == injected.stalls, "every late read counted as an overrun");
   check(c.stuck_events == injected.stucks, "every stuck period counted");
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer keeps freed memory in quarantine: RSS says nothing about leaks here
+  // (LeakSanitizer does); the figure is checked in the optimised build.
+  std::printf("  (RSS not checked under AddressSanitizer)\n");
+#else
   check(rss_max - rss_after_warmup < 1024, "RSS growth under 1 MB after warm-up");
+#endif
   check(max_step < 0.5, "heading continuous across faults");
   std::printf("%s\n", ok ? "soak: all checks passed" : "soak: FAILED");
   return ok ? 0 : 1;
