@@ -179,9 +179,29 @@ std::string text_of(const std::string& file, const toml::node& node, const std::
   return std::string(text->get());
 }
 
+void read_security(const TableReader& r, DdsSecurity& s) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "enabled") s.enabled = r.boolean(node, key);
+        else if (name == "identity_ca") s.identity_ca = text_of(r.file(), node, key);
+        else if (name == "certificate") s.certificate = text_of(r.file(), node, key);
+        else if (name == "private_key") s.private_key = text_of(r.file(), node, key);
+        else if (name == "permissions_ca") s.permissions_ca = text_of(r.file(), node, key);
+        else if (name == "governance") s.governance = text_of(r.file(), node, key);
+        else if (name == "permissions") s.permissions = text_of(r.file(), node, key);
+        else return false;
+        return true;
+      },
+      "enabled, identity_ca, certificate, private_key, permissions_ca, governance, permissions");
+}
+
 void read_dds(const TableReader& r, DdsSettings& d) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "security") {
+          read_security(TableReader(r.file(), as_table(r.file(), node, key), key + "."), d.security);
+          return true;
+        }
         if (name == "domain_id") d.domain_id = static_cast<int>(r.integer(node, key, 0, 232));
         else if (name == "prefix") d.prefix = text_of(r.file(), node, key);
         else if (name == "ros2_naming") d.ros2_naming = r.boolean(node, key);
@@ -200,7 +220,7 @@ void read_dds(const TableReader& r, DdsSettings& d) {
         return true;
       },
       "domain_id, prefix, ros2_naming, publish_imu, imu_topic, frame_id, orientation_rate_hz, orientation_reliable, "
-      "profiles_xml, discovery_server, command_max_age_s");
+      "profiles_xml, discovery_server, command_max_age_s, [dds.security]");
 }
 
 void read_sensor(const TableReader& r, SensorOptions& s) {
@@ -265,6 +285,16 @@ Config interpret(const toml::table& root, const std::string& file) {
       read_state(TableReader(file, as_table(file, node, key), "state."), config);
     } else {
       fail(file, node, key, "is not a known section (known: [sensor], [estimator], [dds], [state], [log])");
+    }
+  }
+  const auto& sec = config.dds.security;
+  if (sec.enabled) {
+    for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"identity_ca", sec.identity_ca},
+                                     {"certificate", sec.certificate}, {"private_key", sec.private_key},
+                                     {"permissions_ca", sec.permissions_ca}, {"governance", sec.governance},
+                                     {"permissions", sec.permissions}}) {
+      if (value.empty()) throw ConfigError(file + ": [dds.security]: '" + key + "' is required when enabled = true");
+      if (!std::ifstream(value)) throw ConfigError(file + ": [dds.security]: " + key + " file " + value + " cannot be read");
     }
   }
   if (const auto problem = core::validate(config.estimator)) {

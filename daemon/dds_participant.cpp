@@ -1,6 +1,9 @@
 #include "daemon/dds_participant.hpp"
 
+#include <cstdlib>
 #include <ctime>
+
+#include <fastdds/dds/log/Log.hpp>
 #include <stdexcept>
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -27,6 +30,11 @@ double wall_now_s() {
 }
 
 DomainParticipant* create_participant(const DdsSettings& settings, const std::string& name) {
+  // HEADINGD_DDS_LOG=warning|info shows Fast DDS's own diagnostics (security set-up, discovery).
+  if (const char* level = std::getenv("HEADINGD_DDS_LOG")) {
+    const std::string text = level;
+    Log::SetVerbosity(text == "info" ? Log::Kind::Info : text == "warning" ? Log::Kind::Warning : Log::Kind::Error);
+  }
   auto* factory = DomainParticipantFactory::get_instance();
   if (settings.profiles_xml && factory->load_XML_profiles_file(*settings.profiles_xml) != ReturnCode_t::RETCODE_OK) {
     throw std::runtime_error("cannot load Fast DDS XML profiles from " + *settings.profiles_xml);
@@ -50,9 +58,26 @@ DomainParticipant* create_participant(const DdsSettings& settings, const std::st
     qos.wire_protocol().builtin.discovery_config.discoveryProtocol = DiscoveryProtocol_t::CLIENT;
     qos.wire_protocol().builtin.discovery_config.m_DiscoveryServers.push_back(server);
   }
+  if (settings.security.enabled) {
+    const auto& s = settings.security;
+    auto& properties = qos.properties().properties();
+    const auto set = [&](const std::string& property, const std::string& value) { properties.emplace_back(property, value); };
+    set("dds.sec.auth.plugin", "builtin.PKI-DH");
+    set("dds.sec.auth.builtin.PKI-DH.identity_ca", "file://" + s.identity_ca);
+    set("dds.sec.auth.builtin.PKI-DH.identity_certificate", "file://" + s.certificate);
+    set("dds.sec.auth.builtin.PKI-DH.private_key", "file://" + s.private_key);
+    set("dds.sec.access.plugin", "builtin.Access-Permissions");
+    set("dds.sec.access.builtin.Access-Permissions.permissions_ca", "file://" + s.permissions_ca);
+    set("dds.sec.access.builtin.Access-Permissions.governance", "file://" + s.governance);
+    set("dds.sec.access.builtin.Access-Permissions.permissions", "file://" + s.permissions);
+    set("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+  }
   auto* participant = factory->create_participant(static_cast<DomainId_t>(settings.domain_id), qos);
   if (participant == nullptr) {
-    throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(settings.domain_id));
+    throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(settings.domain_id) +
+                             (settings.security.enabled ? " (DDS Security: check the certificates, key, governance and "
+                                                          "permissions files)"
+                                                        : ""));
   }
   return participant;
 }

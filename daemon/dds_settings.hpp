@@ -6,6 +6,18 @@
 
 namespace headingd::app {
 
+// DDS Security (Fast DDS's builtin plugins): authentication with a PKI, access control by
+// signed governance and permissions, encryption. File paths; all required when enabled.
+struct DdsSecurity {
+  bool enabled = false;
+  std::string identity_ca;           // CA certificate that signed every identity (PEM)
+  std::string certificate;           // this participant's identity certificate (PEM)
+  std::string private_key;           // its private key (PEM)
+  std::string permissions_ca;        // CA that signed governance and permissions
+  std::string governance;            // signed governance document (S/MIME)
+  std::string permissions;           // signed permissions document (S/MIME)
+};
+
 struct DdsSettings {
   int domain_id = 0;                    // [0, 232]
   std::string prefix = "headingd";      // topics PREFIX/orientation, /bias, /status, /command
@@ -18,6 +30,7 @@ struct DdsSettings {
   std::optional<std::string> profiles_xml;      // Fast DDS XML profiles (override our QoS)
   std::optional<std::string> discovery_server;  // HOST:PORT of a Fast DDS Discovery Server
   CommandLimits command_limits;
+  DdsSecurity security;
 };
 
 // The topic name for one of our topics, with the naming in force.

@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
   command_cmd->add_option("--heading-rad", command.heading_rad)->group("");  // raw, for tests
   command_cmd->add_option("--stamp-offset", command.stamp_offset_s)->group("");
   command_cmd->add_option("-c,--config", command.config_path, "TOML configuration file (its [dds] section)");
+  command_cmd->add_option("--wait", command.wait_s, "Seconds to wait for headingd to listen")->capture_default_str();
 
   try {
     cli.parse(argc, argv);
