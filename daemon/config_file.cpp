@@ -1,6 +1,7 @@
 #include "daemon/config_file.hpp"
 
 #include <cerrno>
+#include <cstdio>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -314,6 +315,17 @@ Config parse_config(std::string_view text, const std::string& name) {
     throw ConfigError(name + ":" + std::to_string(begin.line) + ":" + std::to_string(begin.column) +
                       ": " + std::string(error.description()));
   }
+}
+
+bool apply_method_option(const std::optional<std::string>& method, core::EstimatorSettings& settings) {
+  if (!method) return true;
+  const auto parsed = core::parse_method(*method);
+  if (!parsed) {
+    std::fprintf(stderr, "headingd: --method: '%s' is not a method (use auto, a, b or c)\n", method->c_str());
+    return false;
+  }
+  settings.method = *parsed;
+  return true;
 }
 
 Config load_config(const std::string& path) {

@@ -26,6 +26,8 @@ struct Config {
 };
 
 Config load_config(const std::string& path);
+// Applies a --method option to the settings; false (after saying why on stderr) when unknown.
+bool apply_method_option(const std::optional<std::string>& method, core::EstimatorSettings& settings);
 // For tests and tools: parses TOML text; `name` stands for the file in messages.
 Config parse_config(std::string_view text, const std::string& name);
 

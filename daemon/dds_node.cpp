@@ -153,6 +153,13 @@ bool DdsNode::wait_for_subscribers(double seconds) {
   }
 }
 
+void DdsNode::apply_commands(core::Estimator& estimator) {
+  for (const auto& command : take_commands()) {
+    if (command.kind == CommandKind::SetHeading) estimator.set_heading(command.heading_deg, command.variance_deg2);
+    else estimator.set_motion_hint(command.hint);
+  }
+}
+
 std::vector<ValidCommand> DdsNode::take_commands() {
   std::lock_guard lock(impl_->mutex);
   std::vector<ValidCommand> out;

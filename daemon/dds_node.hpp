@@ -37,6 +37,8 @@ class DdsNode {
                double wall_offset_s);
   // Commands received and validated since the last call (rejected ones are counted and logged).
   std::vector<ValidCommand> take_commands();
+  // Applies the commands received since the last call to the estimator.
+  void apply_commands(core::Estimator& estimator);
   std::uint64_t commands_accepted() const;
   std::uint64_t commands_rejected() const;
   std::uint64_t orientation_sent() const { return orientation_seq_; }

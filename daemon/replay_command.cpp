@@ -76,14 +76,7 @@ int run_replay(const ReplayOptions& options) {
     std::fprintf(stderr, "headingd: %s\n", error.what());
     return kExitConfig;
   }
-  if (options.method) {
-    const auto method = core::parse_method(*options.method);
-    if (!method) {
-      std::fprintf(stderr, "headingd: --method: '%s' is not a method (use auto, a, b or c)\n", options.method->c_str());
-      return kExitUsage;
-    }
-    settings.method = *method;
-  }
+  if (!apply_method_option(options.method, settings)) return kExitUsage;
   if (!(options.output_rate_hz >= 0.0) || !std::isfinite(options.output_rate_hz)) {
     std::fprintf(stderr, "headingd: --output-rate must be 0 (every sample) or a positive rate in Hz\n");
     return kExitUsage;
@@ -156,12 +149,7 @@ int run_replay(const ReplayOptions& options) {
                                            std::chrono::duration<double>((sample.t_s - first_t_s) / speed_factor));
             if (due > std::chrono::steady_clock::now()) std::this_thread::sleep_until(due);
           }
-          if (node) {
-            for (const auto& command : node->take_commands()) {
-              if (command.kind == CommandKind::SetHeading) estimator.set_heading(command.heading_deg, command.variance_deg2);
-              else estimator.set_motion_hint(command.hint);
-            }
-          }
+          if (node) node->apply_commands(estimator);
           const auto& estimate = estimator.update(sample);
           writer.add(estimate);
           if (node) {

@@ -182,14 +182,7 @@ int run_live(const RunOptions& options) {
     return kExitConfig;
   }
   core::EstimatorSettings settings = config.estimator;
-  if (options.method) {
-    const auto method = core::parse_method(*options.method);
-    if (!method) {
-      std::fprintf(stderr, "headingd: --method: '%s' is not a method (use auto, a, b or c)\n", options.method->c_str());
-      return kExitUsage;
-    }
-    settings.method = *method;
-  }
+  if (!apply_method_option(options.method, settings)) return kExitUsage;
   const std::optional<std::string> state_path = options.state_path ? options.state_path : config.state_path;
   LogPriority level;
   if (parse_log_level(config.log_level, level)) set_log_level(level);
@@ -251,10 +244,7 @@ int run_live(const RunOptions& options) {
         }
         if (recorder) recorder->add(batch[i]);
         if (node) {
-          for (const auto& command : node->take_commands()) {
-            if (command.kind == CommandKind::SetHeading) estimator_owner->set_heading(command.heading_deg, command.variance_deg2);
-            else estimator_owner->set_motion_hint(command.hint);
-          }
+          node->apply_commands(*estimator_owner);
         }
         const auto& estimate = estimator_owner->update(batch[i]);
         if (writer) writer->add(estimate);
