@@ -1,4 +1,5 @@
 #include "daemon/config_file.hpp"
+#include "daemon/server_address.hpp"
 
 #include <cerrno>
 #include <cstdio>
@@ -214,8 +215,8 @@ void read_dds(const TableReader& r, DdsSettings& d) {
         else if (name == "profiles_xml") d.profiles_xml = text_of(r.file(), node, key);
         else if (name == "discovery_server") {
           d.discovery_server = text_of(r.file(), node, key);
-          if (d.discovery_server->find(':') == std::string::npos)
-            fail(r.file(), node, key, "must be HOST:PORT, found " + shown(node));
+          std::string why;
+          if (!parse_server_address(*d.discovery_server, why)) fail(r.file(), node, key, why + ", found " + shown(node));
         } else if (name == "command_max_age_s") d.command_limits.max_age_s = r.number(node, key, 0.0, 3600.0, true);
         else return false;
         return true;

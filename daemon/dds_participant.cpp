@@ -1,4 +1,5 @@
 #include "daemon/dds_participant.hpp"
+#include "daemon/server_address.hpp"
 
 #include <cstdlib>
 #include <ctime>
@@ -46,12 +47,12 @@ DomainParticipant* create_participant(const DdsSettings& settings, const std::st
     qos = from_profile;
   qos.name(name);
   if (settings.discovery_server) {
-    const auto& text = *settings.discovery_server;
-    const auto colon = text.rfind(':');
-    if (colon == std::string::npos) throw std::runtime_error("discovery_server must be HOST:PORT, got '" + text + "'");
+    std::string why;
+    const auto address = parse_server_address(*settings.discovery_server, why);
+    if (!address) throw std::runtime_error("discovery_server '" + *settings.discovery_server + "': " + why);
     Locator_t locator;
-    IPLocator::setIPv4(locator, text.substr(0, colon));
-    locator.port = static_cast<std::uint32_t>(std::stoul(text.substr(colon + 1)));
+    IPLocator::setIPv4(locator, address->ipv4);
+    locator.port = address->port;
     RemoteServerAttributes server;
     server.ReadguidPrefix(kServerZeroPrefix);
     server.metatrafficUnicastLocatorList.push_back(locator);

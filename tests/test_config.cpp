@@ -112,6 +112,17 @@ TEST(Config, UnknownKeyAndSectionRejected) {
   EXPECT_NE(message.find("'estimatr' is not a known section"), std::string::npos) << message;
 }
 
+TEST(Config, DiscoveryServerMustBeNumericAddressAndPort) {
+  auto message = error_of("[dds]\ndiscovery_server = \"server.local:11811\"\n");
+  EXPECT_NE(message.find("test.toml:2:"), std::string::npos) << message;
+  EXPECT_NE(message.find("'server.local' is not a numeric IPv4 address"), std::string::npos) << message;
+  message = error_of("[dds]\ndiscovery_server = \"127.0.0.1:70000\"\n");
+  EXPECT_NE(message.find("port '70000' is not a number in [1, 65535]"), std::string::npos) << message;
+  message = error_of("[dds]\ndiscovery_server = \"127.0.0.1\"\n");
+  EXPECT_NE(message.find("must be IPV4:PORT"), std::string::npos) << message;
+  EXPECT_NE(error_of("[dds]\ndiscovery_server = \"127.0.0.1:\"\n").find("port ''"), std::string::npos);
+}
+
 TEST(Config, SyntaxErrorHasPosition) {
   const auto message = error_of("[estimator\n");
   EXPECT_EQ(message.rfind("test.toml:1:", 0), 0u) << message;
