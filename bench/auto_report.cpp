@@ -32,11 +32,12 @@ struct Classification {
 
 // Per-method bookkeeping while a run goes on.
 struct Run {
-  explicit Run(core::Method method) : estimator([&] {
-    core::EstimatorSettings s;
-    s.method = method;
-    return s;
-  }()) {}
+  explicit Run(core::Method method)
+      : estimator([&] {
+          core::EstimatorSettings s;
+          s.method = method;
+          return s;
+        }()) {}
   core::Estimator estimator;
   core::HeadingMetrics metrics;
   std::uint64_t honest = 0, judged = 0;
@@ -102,7 +103,9 @@ std::vector<std::string> split(const std::string& text) {
   return items;
 }
 
-double pct(std::uint64_t part, std::uint64_t whole) { return whole ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : NAN; }
+double pct(std::uint64_t part, std::uint64_t whole) {
+  return whole ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : NAN;
+}
 
 void add(Classification& into, const Classification& c) {
   into.still += c.still;
@@ -121,9 +124,12 @@ int main(int argc, char** argv) {
   double hours = 0.0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
-    if (flag == "--seeds") seeds = split(argv[i + 1]);
-    else if (flag == "--scenarios") scenarios = split(argv[i + 1]);
-    else if (flag == "--hours") hours = std::atof(argv[i + 1]);
+    if (flag == "--seeds")
+      seeds = split(argv[i + 1]);
+    else if (flag == "--scenarios")
+      scenarios = split(argv[i + 1]);
+    else if (flag == "--hours")
+      hours = std::atof(argv[i + 1]);
     else {
       std::fprintf(stderr, "usage: auto_report [--seeds 1,2,3] [--scenarios a,b] [--hours H]\n");
       return 64;
@@ -162,7 +168,8 @@ int main(int argc, char** argv) {
   bool never_worse = true;
   for (const auto& r : rows) {
     const double ratio = r.automatic.max_abs_deg() / r.c.max_abs_deg();
-    never_worse = never_worse && r.automatic.max_abs_deg() <= r.c.max_abs_deg() && r.automatic.rms_deg() <= r.c.rms_deg();
+    never_worse =
+        never_worse && r.automatic.max_abs_deg() <= r.c.max_abs_deg() && r.automatic.rms_deg() <= r.c.rms_deg();
     std::printf("%-9s %4llu %6.1f | %8.2f %8.2f %8.2f %8.3f | %8.2f %8.2f %8.2f %8.3f | %6.1f%% %.2f\n",
                 r.scenario.c_str(), static_cast<unsigned long long>(r.seed), r.c.hours(), r.c.max_abs_deg(),
                 r.c.final_abs_deg(), r.c.rms_deg(), r.c.drift_deg_per_h(), r.automatic.max_abs_deg(),
@@ -208,8 +215,9 @@ int main(int argc, char** argv) {
     hi = std::max(hi, r.honest_fraction);
     honest_runs += (r.honest_fraction >= 90.0 && r.honest_fraction <= 99.0) ? 1u : 0u;
   }
-  std::printf("\nHonest sigma: |E| <= 2 sigma in %.1f%% .. %.1f%% of output samples per run; %llu of %zu runs within 90-99%%\n",
-              lo, hi, static_cast<unsigned long long>(honest_runs), rows.size());
+  std::printf(
+      "\nHonest sigma: |E| <= 2 sigma in %.1f%% .. %.1f%% of output samples per run; %llu of %zu runs within 90-99%%\n",
+      lo, hi, static_cast<unsigned long long>(honest_runs), rows.size());
   std::printf("Honest sigma over all runs together: |E| <= 2 sigma in %.1f%% of %llu output samples (target 90-99%%)\n",
               pct(honest_all, judged_all), static_cast<unsigned long long>(judged_all));
   return 0;

@@ -5,14 +5,13 @@
 // taken by hand as the mean of the first rest.
 // Usage: broad_heading_error TRUTH.csv IMU.csv [LABEL=ESTIMATES.csv ...]
 //        (estimates written by `headingd replay --output-rate 0`, one row per IMU sample)
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "core/attitude_integrator.hpp"
 #include "core/units.hpp"
@@ -121,7 +120,8 @@ int main(int argc, char** argv) {
   std::vector<core::Sample> samples;
   drivers::CsvReplaySource source(argv[2]);
   std::vector<core::Sample> batch(4096);
-  while (const auto n = source.read(batch)) samples.insert(samples.end(), batch.begin(), batch.begin() + static_cast<long>(n));
+  while (const auto n = source.read(batch))
+    samples.insert(samples.end(), batch.begin(), batch.begin() + static_cast<long>(n));
 
   // The first rest: samples before the dataset's first moving mark.
   double first_motion_s = 0.0;

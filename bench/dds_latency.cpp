@@ -9,9 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <thread>
-#include <vector>
-
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
@@ -19,6 +16,8 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include <thread>
+#include <vector>
 
 #include "core/estimator.hpp"
 #include "daemon/dds_node.hpp"
@@ -53,7 +52,8 @@ int subscriber(const app::DdsSettings& settings, int out_fd) {
   auto* participant = app::create_participant(settings, "latency-subscriber");
   TypeSupport type(new headingd::msg::OrientationPubSubType());
   type.register_type(participant);
-  auto* topic = participant->create_topic(app::topic_name(settings, "orientation"), type.get_type_name(), TOPIC_QOS_DEFAULT);
+  auto* topic =
+      participant->create_topic(app::topic_name(settings, "orientation"), type.get_type_name(), TOPIC_QOS_DEFAULT);
   auto* sub = participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
   Latencies listener;
   listener.us.reserve(20000);

@@ -71,7 +71,8 @@ int main() {
   }
   std::printf("simulated %.0f s at %.1f Hz: %llu samples, %llu wake-ups (%.1f samples per wake-up)\n", r.span_s,
               static_cast<double>(r.samples) / r.span_s, static_cast<unsigned long long>(r.samples),
-              static_cast<unsigned long long>(r.wakeups), static_cast<double>(r.samples) / static_cast<double>(r.wakeups));
+              static_cast<unsigned long long>(r.wakeups),
+              static_cast<double>(r.samples) / static_cast<double>(r.wakeups));
   std::printf("driver + simulated chip: %.1f us per wake-up, %.2f us per sample (median of 5)\n", median(drv_wake),
               median(drv_sample));
   std::printf("auto estimator:          %.2f us per sample (median of 5)\n", median(est_sample));

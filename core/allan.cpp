@@ -65,8 +65,8 @@ NoiseTerms read_noise_terms(std::span<const AllanPoint> curve) {
   NoiseTerms terms;
   if (curve.size() < 3) return terms;
   terms.arw = read_at(curve, 1.0, 0.5);  // sigma * sqrt(tau) at tau = 1 s
-  const auto minimum = std::min_element(curve.begin(), curve.end(),
-                                        [](const AllanPoint& a, const AllanPoint& b) { return a.deviation < b.deviation; });
+  const auto minimum = std::min_element(
+      curve.begin(), curve.end(), [](const AllanPoint& a, const AllanPoint& b) { return a.deviation < b.deviation; });
   terms.bias_instability = minimum->deviation / 0.664;
   terms.tau_at_minimum_s = minimum->tau_s;
   // Rate random walk: past the minimum, the first stretch rising with a slope near +1/2.

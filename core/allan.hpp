@@ -14,8 +14,8 @@ namespace headingd::core {
 
 struct AllanPoint {
   double tau_s;
-  double deviation;     // same unit as the rate (dps)
-  std::size_t clusters; // number of overlapping terms averaged
+  double deviation;      // same unit as the rate (dps)
+  std::size_t clusters;  // number of overlapping terms averaged
 };
 
 // Cluster sizes spread evenly in log(tau), `per_decade` of them, from one sample up to the
@@ -27,8 +27,8 @@ std::vector<AllanPoint> allan_deviation(std::span<const double> rate, double per
                                         std::span<const std::size_t> clusters);
 
 struct NoiseTerms {
-  double arw = 0.0;                    // N, rate unit * sqrt(s)   (dps/sqrt(Hz))
-  double bias_instability = 0.0;       // B, rate unit             (dps)
+  double arw = 0.0;               // N, rate unit * sqrt(s)   (dps/sqrt(Hz))
+  double bias_instability = 0.0;  // B, rate unit             (dps)
   double tau_at_minimum_s = 0.0;
   std::optional<double> rate_random_walk;  // K, rate unit / sqrt(s); absent if no +1/2 slope was reached
 };

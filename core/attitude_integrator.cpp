@@ -12,8 +12,7 @@ void AttitudeIntegrator::add(const Vec3& rate_dps, double dt_s) {
   Eigen::Quaterniond step;
   if (angle_rad < 1e-12) {
     // First-order form avoids dividing by a vanishing angle.
-    step = Eigen::Quaterniond(1.0, 0.5 * rotation_rad.x(), 0.5 * rotation_rad.y(),
-                              0.5 * rotation_rad.z());
+    step = Eigen::Quaterniond(1.0, 0.5 * rotation_rad.x(), 0.5 * rotation_rad.y(), 0.5 * rotation_rad.z());
   } else {
     const double half = 0.5 * angle_rad;
     const Vec3 axis_sin = rotation_rad * (std::sin(half) / angle_rad);

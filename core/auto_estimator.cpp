@@ -141,7 +141,8 @@ SegmentVerdict AutoEstimator::close_segment() {
     const double pooled_s = duration_s + previous_.duration_s;
     for (Eigen::Index a = 0; a < 3; ++a) {
       const double pooled_mean = (mean[a] * duration_s + previous_.mean_dps[a] * previous_.duration_s) / pooled_s;
-      const double sd = std::sqrt(previous_.predicted_var[a] + walk_dps2_per_s_ * pooled_s + white_dps2_s_[a] / pooled_s);
+      const double sd =
+          std::sqrt(previous_.predicted_var[a] + walk_dps2_per_s_ * pooled_s + white_dps2_s_[a] / pooled_s);
       mean_ok = mean_ok && std::abs(pooled_mean - previous_.predicted_dps[a]) <= settings_.k_mean_pooled * sd;
     }
   }
@@ -171,7 +172,8 @@ SegmentVerdict AutoEstimator::close_segment() {
 void AutoEstimator::add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted) {
   // Likelihood of the observed deviation if still (Gaussian) and if turning slowly (flat).
   const double z = deviation_dps / sd_dps;
-  const double still = (1.0 - settings_.creep_prior) * std::exp(-0.5 * z * z) / (sd_dps * std::sqrt(2.0 * std::numbers::pi));
+  const double still =
+      (1.0 - settings_.creep_prior) * std::exp(-0.5 * z * z) / (sd_dps * std::sqrt(2.0 * std::numbers::pi));
   // Flat, and not cut off beyond the span: a fast turn must never look still by default.
   const double turning = settings_.creep_prior / (2.0 * settings_.creep_span_dps);
   const double p_wrong = (accepted ? turning : still) / (still + turning);
@@ -207,8 +209,7 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   // The attitude goes back to the segment's start, turned about the vertical by the heading
   // correction the bias measurement made to the time before.
   const double yaw_correction_deg = filters_[2].angle_deg() - segment_.filters_at_start[2].angle_deg;
-  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) *
-                         segment_.attitude_at_start);
+  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * segment_.attitude_at_start);
 
   if (segment_.temp_count > 0) {
     const double temp_c = segment_.temp_sum_c / segment_.temp_count;
@@ -307,7 +308,8 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
   } else {
     estimate_.heading_sigma_deg = std::sqrt(std::max(0.0, filters_[2].angle_variance()));
     for (std::size_t axis = 0; axis < 3; ++axis)
-      estimate_.bias_sigma_dps[static_cast<Eigen::Index>(axis)] = std::sqrt(std::max(0.0, filters_[axis].bias_variance()));
+      estimate_.bias_sigma_dps[static_cast<Eigen::Index>(axis)] =
+          std::sqrt(std::max(0.0, filters_[axis].bias_variance()));
   }
   estimate_.in_startup = in_startup_;
   estimate_.segment_index = segment_index_;

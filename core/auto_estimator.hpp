@@ -13,8 +13,8 @@
 #include <cstdint>
 
 #include "core/attitude_integrator.hpp"
-#include "core/axis_filter.hpp"
 #include "core/auto_settings.hpp"
+#include "core/axis_filter.hpp"
 #include "core/bias_tracker.hpp"
 #include "core/estimate.hpp"
 #include "core/noise_density.hpp"
@@ -106,7 +106,7 @@ class AutoEstimator {
   Vec3 sigma_still_dps_ = Vec3::Zero();
   Vec3 white_dps2_s_ = Vec3::Zero();  // N^2 per axis
   double walk_dps2_per_s_ = 0.0;      // q
-  double diff_var_z_ = 0.0;            // running mean of squared z sample differences, dps^2
+  double diff_var_z_ = 0.0;           // running mean of squared z sample differences, dps^2
   double previous_rate_z_dps_ = 0.0;
   bool started_ = false;
   bool in_startup_ = true;

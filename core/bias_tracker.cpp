@@ -15,8 +15,7 @@ constexpr double kTimeEpsilonS = 1e-9;
 }  // namespace
 
 std::optional<std::string> validate(const BiasSettings& s) {
-  if (!(s.segment_s > 0.0) || !std::isfinite(s.segment_s))
-    return "segment_s must be a positive number of seconds";
+  if (!(s.segment_s > 0.0) || !std::isfinite(s.segment_s)) return "segment_s must be a positive number of seconds";
   if (!(s.k_range > 0.0) || !std::isfinite(s.k_range)) return "k_range must be positive";
   if (!(s.k_mean > 0.0) || !std::isfinite(s.k_mean)) return "k_mean must be positive";
   if (s.n_means < 1 || s.n_means > MeanHistory::kMaxMeans)
@@ -75,10 +74,18 @@ SegmentVerdict BiasTracker::close_segment() {
   verdict.range_ok = range_says_still(segment_, sigma_still_dps_, settings_.k_range);
   verdict.mean_ok = history_.consistent(segment_.mean_dps(), sigma_still_dps_, settings_.k_mean);
   switch (method_) {
-    case Method::A: verdict.accepted = false; break;
-    case Method::B: verdict.accepted = verdict.range_ok; break;
-    case Method::C: verdict.accepted = verdict.range_ok && verdict.mean_ok; break;
-    case Method::Auto: verdict.accepted = false; break;  // not this tracker's method
+    case Method::A:
+      verdict.accepted = false;
+      break;
+    case Method::B:
+      verdict.accepted = verdict.range_ok;
+      break;
+    case Method::C:
+      verdict.accepted = verdict.range_ok && verdict.mean_ok;
+      break;
+    case Method::Auto:
+      verdict.accepted = false;
+      break;  // not this tracker's method
   }
   if (verdict.accepted) {
     bias_dps_ = segment_.mean_dps();

@@ -15,10 +15,10 @@
 namespace headingd::core {
 
 struct BiasSettings {
-  double segment_s = 3.0;        // segment length, s (paper: 3 s)
-  double k_range = 7.0;          // range criterion factor (paper: 7)
-  double k_mean = 1.0;           // mean-consistency factor (paper: 1)
-  std::size_t n_means = 10;      // accepted means in the moving average (ours: 30 s of stops)
+  double segment_s = 3.0;    // segment length, s (paper: 3 s)
+  double k_range = 7.0;      // range criterion factor (paper: 7)
+  double k_mean = 1.0;       // mean-consistency factor (paper: 1)
+  std::size_t n_means = 10;  // accepted means in the moving average (ours: 30 s of stops)
   // Per-sample noise sigma of a still sensor, dps. Unset: measured from the start-up segment.
   std::optional<Vec3> sigma_still_dps;
   // The platform stands still for the first segment: its mean is the initial bias and,

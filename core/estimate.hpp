@@ -1,19 +1,18 @@
 #pragma once
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <limits>
-
-#include <Eigen/Geometry>
 
 #include "core/sample.hpp"
 
 namespace headingd::core {
 
 struct SegmentVerdict {
-  bool closed = false;     // this sample closed a segment; the fields below describe it
+  bool closed = false;  // this sample closed a segment; the fields below describe it
   std::uint64_t index = 0;
   bool range_ok = false;
   bool mean_ok = false;
-  bool accepted = false;   // the segment was taken as still and its mean as a bias measurement
+  bool accepted = false;  // the segment was taken as still and its mean as a bias measurement
 };
 
 // What every estimator reports after each sample.
@@ -23,7 +22,7 @@ struct Estimate {
   Eigen::Quaterniond attitude = Eigen::Quaterniond::Identity();
   Vec3 bias_dps = Vec3::Zero();
   Vec3 bias_sigma_dps = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
-  Vec3 rate_dps = Vec3::Zero();  // bias-corrected
+  Vec3 rate_dps = Vec3::Zero();                                         // bias-corrected
   double heading_sigma_deg = std::numeric_limits<double>::quiet_NaN();  // NaN: not provided
   bool in_startup = false;          // heading held while the start-up segment is measured
   std::uint64_t segment_index = 0;  // segment this sample belongs to

@@ -22,7 +22,8 @@ std::optional<std::string> validate(const EstimatorSettings& s) {
   if (!(a.k_mean_pooled > 0.0) || !std::isfinite(a.k_mean_pooled)) return "auto.k_mean_pooled must be positive";
   if (!(a.bias_walk_dps_rt_s >= 0.0) || !std::isfinite(a.bias_walk_dps_rt_s))
     return "auto.bias_walk_dps_rt_s must be zero or positive";
-  if (!(a.block_s > 0.0) || a.block_s > a.min_segment_s) return "auto.block_s must be positive and at most min_segment_s";
+  if (!(a.block_s > 0.0) || a.block_s > a.min_segment_s)
+    return "auto.block_s must be positive and at most min_segment_s";
   if (a.arw_dps_rt_hz && (!(a.arw_dps_rt_hz->array() > 0.0).all() || !a.arw_dps_rt_hz->allFinite()))
     return "auto.arw_dps_rt_hz must be positive on every axis";
   const TemperatureModelSettings& t = a.temperature;

@@ -5,9 +5,7 @@ namespace headingd::core {
 
 class HeadingIntegrator {
  public:
-  void add(double rate_z_dps, double bias_z_dps, double dt_s) {
-    heading_deg_ += (rate_z_dps - bias_z_dps) * dt_s;
-  }
+  void add(double rate_z_dps, double bias_z_dps, double dt_s) { heading_deg_ += (rate_z_dps - bias_z_dps) * dt_s; }
   void set_heading_deg(double heading_deg) { heading_deg_ = heading_deg; }
   double heading_deg() const { return heading_deg_; }
 

@@ -32,8 +32,6 @@ void NoiseDensity::add(const BlockMeans& blocks) {
   dof_ += blocks.blocks() - 1.0;
 }
 
-Vec3 NoiseDensity::density_squared() const {
-  return dof_ > 0.0 ? Vec3(squares_ / dof_) : Vec3::Zero();
-}
+Vec3 NoiseDensity::density_squared() const { return dof_ > 0.0 ? Vec3(squares_ / dof_) : Vec3::Zero(); }
 
 }  // namespace headingd::core

@@ -9,8 +9,7 @@ bool range_says_still(const SegmentStats& segment, const Vec3& sigma_still_dps, 
   return (segment.range_dps().array() < k_range * sigma_still_dps.array()).all();
 }
 
-MeanHistory::MeanHistory(std::size_t n_means)
-    : capacity_(std::clamp<std::size_t>(n_means, 1, kMaxMeans)) {}
+MeanHistory::MeanHistory(std::size_t n_means) : capacity_(std::clamp<std::size_t>(n_means, 1, kMaxMeans)) {}
 
 void MeanHistory::clear() {
   next_ = 0;

@@ -1,9 +1,8 @@
 #include "core/temperature_model.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Cholesky>
 
 namespace headingd::core {
 
@@ -26,8 +25,9 @@ void TemperatureModel::add(double t_s, double temp_c, double bias_dps, double me
   sums_.yy += bias_dps * bias_dps;
   sums_.weight += 1.0;
   ++points_;
-  noise_variance_ = points_ == 1 ? measurement_variance
-                                 : noise_variance_ + (measurement_variance - noise_variance_) / std::min<double>(points_, 50.0);
+  noise_variance_ = points_ == 1
+                        ? measurement_variance
+                        : noise_variance_ + (measurement_variance - noise_variance_) / std::min<double>(points_, 50.0);
   solve();
 }
 

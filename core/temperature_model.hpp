@@ -4,18 +4,17 @@
 // with exponential ageing so that old points fade (the chip's trim and mounting stress move).
 // One model per axis; the estimator uses its slope to carry the bias across temperature
 // changes while the platform drives.
-#include <cstdint>
-
 #include <Eigen/Core>
+#include <cstdint>
 
 namespace headingd::core {
 
 struct TemperatureModelSettings {
-  double reference_c = 25.0;       // T_ref, degC: keeps the normal equations well conditioned
-  double half_life_s = 6 * 3600.0; // a point's weight halves in this time, s
-  double min_span_c = 2.0;         // weighted temperature spread needed before the slope is used, degC
-  double quadratic_span_c = 15.0;  // spread above which the quadratic term is fitted, degC
-  std::uint32_t min_points = 8;    // accepted segments needed before the slope is used
+  double reference_c = 25.0;        // T_ref, degC: keeps the normal equations well conditioned
+  double half_life_s = 6 * 3600.0;  // a point's weight halves in this time, s
+  double min_span_c = 2.0;          // weighted temperature spread needed before the slope is used, degC
+  double quadratic_span_c = 15.0;   // spread above which the quadratic term is fitted, degC
+  std::uint32_t min_points = 8;     // accepted segments needed before the slope is used
 };
 
 inline constexpr TemperatureModelSettings kDefaultTemperatureModelSettings{};
@@ -40,9 +39,9 @@ class TemperatureModel {
   // For persistence: the ageing sums themselves.
   struct Sums {
     Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();  // sum w phi phi'
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();      // sum w phi y
-    double yy = 0.0;                                     // sum w y^2
-    double weight = 0.0;                                 // sum w
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();     // sum w phi y
+    double yy = 0.0;                                   // sum w y^2
+    double weight = 0.0;                               // sum w
     double last_t_s = 0.0;
   };
   const Sums& sums() const { return sums_; }

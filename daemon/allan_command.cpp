@@ -1,11 +1,12 @@
 #include "daemon/allan_command.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <unistd.h>
 #include <vector>
 
 #include "core/allan.hpp"
@@ -92,7 +93,8 @@ bool draw_plot(const std::string& path, const std::vector<int>& axes,
   std::FILE* gp = ::popen("gnuplot 2>&1", "w");
   if (gp == nullptr) return false;
   std::fprintf(gp,
-               "set terminal pngcairo size 800,560 font ',10'\nset output '%s'\nset logscale xy\nset grid xtics ytics mxtics mytics\n"
+               "set terminal pngcairo size 800,560 font ',10'\nset output '%s'\nset logscale xy\nset grid xtics ytics "
+               "mxtics mytics\n"
                "set xlabel 'cluster time tau [s]'\nset ylabel 'Allan deviation [deg/s]'\nset title '%s'\nplot ",
                path.c_str(), title.c_str());
   for (std::size_t i = 0; i < axes.size(); ++i) {
@@ -109,10 +111,14 @@ bool draw_plot(const std::string& path, const std::vector<int>& axes,
 
 int run_allan(const AllanOptions& options) {
   std::vector<int> axes;
-  if (options.axis == "all") axes = {0, 1, 2};
-  else if (options.axis == "x") axes = {0};
-  else if (options.axis == "y") axes = {1};
-  else if (options.axis == "z") axes = {2};
+  if (options.axis == "all")
+    axes = {0, 1, 2};
+  else if (options.axis == "x")
+    axes = {0};
+  else if (options.axis == "y")
+    axes = {1};
+  else if (options.axis == "z")
+    axes = {2};
   else {
     std::fprintf(stderr, "headingd: --axis: '%s' is not x, y, z or all\n", options.axis.c_str());
     return kExitUsage;
@@ -158,17 +164,21 @@ int run_allan(const AllanOptions& options) {
   std::printf("\n");
   for (int a : axes) {
     const auto& t = terms[static_cast<std::size_t>(a)];
-    std::printf("%s: angle random walk %.5f dps/sqrt(Hz) (%.3f deg/sqrt(h)); bias instability %.5f dps (%.2f deg/h) "
-                "at tau %.0f s; rate random walk ",
-                kAxisNames[a], t.arw, t.arw * 60.0, t.bias_instability, t.bias_instability * 3600.0, t.tau_at_minimum_s);
-    if (t.rate_random_walk) std::printf("%.3g dps/sqrt(s)\n", *t.rate_random_walk);
-    else std::printf("not reached (recording too short)\n");
+    std::printf(
+        "%s: angle random walk %.5f dps/sqrt(Hz) (%.3f deg/sqrt(h)); bias instability %.5f dps (%.2f deg/h) "
+        "at tau %.0f s; rate random walk ",
+        kAxisNames[a], t.arw, t.arw * 60.0, t.bias_instability, t.bias_instability * 3600.0, t.tau_at_minimum_s);
+    if (t.rate_random_walk)
+      std::printf("%.3g dps/sqrt(s)\n", *t.rate_random_walk);
+    else
+      std::printf("not reached (recording too short)\n");
   }
 
   if (options.emit_config) {
     std::printf("\n# headingd estimator settings from this recording's noise\n[estimator]\nsigma_still_dps = [");
     for (int a = 0; a < 3; ++a) {
-      const double sigma = rec.sigma_blocks ? std::sqrt(rec.sigma_still_sum[a] / static_cast<double>(rec.sigma_blocks)) : 0.0;
+      const double sigma =
+          rec.sigma_blocks ? std::sqrt(rec.sigma_still_sum[a] / static_cast<double>(rec.sigma_blocks)) : 0.0;
       std::printf("%s%.5f", a ? ", " : "", sigma);
     }
     std::printf("]\n\n[estimator.auto]\n");
@@ -185,7 +195,8 @@ int run_allan(const AllanOptions& options) {
   }
 
   if (options.plot_path) {
-    if (!draw_plot(*options.plot_path, axes, curves, "Allan deviation: " + std::filesystem::path(options.input).filename().string())) {
+    if (!draw_plot(*options.plot_path, axes, curves,
+                   "Allan deviation: " + std::filesystem::path(options.input).filename().string())) {
       std::fprintf(stderr, "headingd: could not draw %s (the plot needs gnuplot: apt-get install gnuplot-nox)\n",
                    options.plot_path->c_str());
       return kExitCantCreate;

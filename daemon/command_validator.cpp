@@ -14,7 +14,8 @@ std::optional<ValidCommand> validate_command(const CommandIn& c, double now_s, c
   }
   const double stamp_s = c.stamp_sec + c.stamp_nanosec * 1e-9;
   if (now_s - stamp_s > limits.max_age_s) {
-    why = "stale: made " + std::to_string(now_s - stamp_s) + " s ago (limit " + std::to_string(limits.max_age_s) + " s)";
+    why =
+        "stale: made " + std::to_string(now_s - stamp_s) + " s ago (limit " + std::to_string(limits.max_age_s) + " s)";
     return std::nullopt;
   }
   if (stamp_s - now_s > limits.max_future_s) {

@@ -21,8 +21,8 @@ struct CommandIn {
 };
 
 struct CommandLimits {
-  double max_age_s = 5.0;          // older commands are stale
-  double max_future_s = 1.0;       // clocks differ a little between hosts, not more
+  double max_age_s = 5.0;            // older commands are stale
+  double max_future_s = 1.0;         // clocks differ a little between hosts, not more
   double max_abs_heading_rad = 1e6;  // unwrapped, but not absurd
   double max_variance_rad2 = 10.0;
 };

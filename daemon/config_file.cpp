@@ -1,17 +1,17 @@
 #include "daemon/config_file.hpp"
-#include "daemon/server_address.hpp"
+
+#include <toml++/toml.h>
 
 #include <cerrno>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
-#include <toml++/toml.h>
-
 #include "core/method.hpp"
 #include "daemon/log.hpp"
+#include "daemon/server_address.hpp"
 
 namespace headingd::app {
 namespace {
@@ -28,13 +28,20 @@ std::string where(const std::string& file, const toml::node& node) {
 
 std::string_view type_name(const toml::node& node) {
   switch (node.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a number";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::table: return "a table";
-    default: return "a date/time";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    default:
+      return "a date/time";
   }
 }
 
@@ -44,8 +51,8 @@ std::string shown(const toml::node& node) {
   return text.str();
 }
 
-double number_in(const std::string& file, const toml::node& node, const std::string& key, double lo,
-                 double hi, bool lo_open) {
+double number_in(const std::string& file, const toml::node& node, const std::string& key, double lo, double hi,
+                 bool lo_open) {
   std::optional<double> value;
   if (node.is_floating_point()) value = node.as_floating_point()->get();
   if (node.is_integer()) value = static_cast<double>(node.as_integer()->get());
@@ -83,7 +90,8 @@ class TableReader {
   }
   std::uint32_t integer(const toml::node& node, const std::string& key, std::int64_t lo, std::int64_t hi) const {
     if (!node.is_integer()) fail(file_, node, key, "must be an integer, found " + shown(node));
-    return static_cast<std::uint32_t>(number_in(file_, node, key, static_cast<double>(lo), static_cast<double>(hi), false));
+    return static_cast<std::uint32_t>(
+        number_in(file_, node, key, static_cast<double>(lo), static_cast<double>(hi), false));
   }
 
   // Calls handle(name, node, full_key) for each key; handle returns false for unknown keys.
@@ -113,13 +121,20 @@ void read_temperature(const TableReader& r, core::AutoSettings& a) {
   auto& t = a.temperature;
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
-        if (name == "enabled") a.use_temperature = r.boolean(node, key);
-        else if (name == "reference_c") t.reference_c = r.number(node, key, -60.0, 150.0, false);
-        else if (name == "half_life_h") t.half_life_s = 3600.0 * r.number(node, key, 0.0, 24.0 * 365.0, true);
-        else if (name == "min_span_c") t.min_span_c = r.number(node, key, 0.0, 100.0, true);
-        else if (name == "quadratic_span_c") t.quadratic_span_c = r.number(node, key, 0.0, 1000.0, true);
-        else if (name == "min_points") t.min_points = r.integer(node, key, 3, 100000);
-        else return false;
+        if (name == "enabled")
+          a.use_temperature = r.boolean(node, key);
+        else if (name == "reference_c")
+          t.reference_c = r.number(node, key, -60.0, 150.0, false);
+        else if (name == "half_life_h")
+          t.half_life_s = 3600.0 * r.number(node, key, 0.0, 24.0 * 365.0, true);
+        else if (name == "min_span_c")
+          t.min_span_c = r.number(node, key, 0.0, 100.0, true);
+        else if (name == "quadratic_span_c")
+          t.quadratic_span_c = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "min_points")
+          t.min_points = r.integer(node, key, 3, 100000);
+        else
+          return false;
         return true;
       },
       "enabled, reference_c, half_life_h, min_span_c, quadratic_span_c, min_points");
@@ -128,14 +143,22 @@ void read_temperature(const TableReader& r, core::AutoSettings& a) {
 void read_auto(const TableReader& r, core::AutoSettings& a) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
-        if (name == "min_segment_s") a.min_segment_s = r.number(node, key, 0.0, 600.0, true);
-        else if (name == "k_range") a.k_range = r.number(node, key, 0.0, 1000.0, true);
-        else if (name == "k_mean") a.k_mean = r.number(node, key, 0.0, 1000.0, true);
-        else if (name == "k_mean_pooled") a.k_mean_pooled = r.number(node, key, 0.0, 1000.0, true);
-        else if (name == "arw_dps_rt_hz") a.arw_dps_rt_hz = r.vector3(node, key, 0.0, 10.0);
-        else if (name == "bias_walk_dps_rt_s") a.bias_walk_dps_rt_s = r.number(node, key, 0.0, 1.0, false);
-        else if (name == "block_s") a.block_s = r.number(node, key, 0.0, 60.0, true);
-        else return false;
+        if (name == "min_segment_s")
+          a.min_segment_s = r.number(node, key, 0.0, 600.0, true);
+        else if (name == "k_range")
+          a.k_range = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "k_mean")
+          a.k_mean = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "k_mean_pooled")
+          a.k_mean_pooled = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "arw_dps_rt_hz")
+          a.arw_dps_rt_hz = r.vector3(node, key, 0.0, 10.0);
+        else if (name == "bias_walk_dps_rt_s")
+          a.bias_walk_dps_rt_s = r.number(node, key, 0.0, 1.0, false);
+        else if (name == "block_s")
+          a.block_s = r.number(node, key, 0.0, 60.0, true);
+        else
+          return false;
         return true;
       },
       "min_segment_s, k_range, k_mean, k_mean_pooled, arw_dps_rt_hz, bias_walk_dps_rt_s, block_s");
@@ -184,14 +207,22 @@ std::string text_of(const std::string& file, const toml::node& node, const std::
 void read_security(const TableReader& r, DdsSecurity& s) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
-        if (name == "enabled") s.enabled = r.boolean(node, key);
-        else if (name == "identity_ca") s.identity_ca = text_of(r.file(), node, key);
-        else if (name == "certificate") s.certificate = text_of(r.file(), node, key);
-        else if (name == "private_key") s.private_key = text_of(r.file(), node, key);
-        else if (name == "permissions_ca") s.permissions_ca = text_of(r.file(), node, key);
-        else if (name == "governance") s.governance = text_of(r.file(), node, key);
-        else if (name == "permissions") s.permissions = text_of(r.file(), node, key);
-        else return false;
+        if (name == "enabled")
+          s.enabled = r.boolean(node, key);
+        else if (name == "identity_ca")
+          s.identity_ca = text_of(r.file(), node, key);
+        else if (name == "certificate")
+          s.certificate = text_of(r.file(), node, key);
+        else if (name == "private_key")
+          s.private_key = text_of(r.file(), node, key);
+        else if (name == "permissions_ca")
+          s.permissions_ca = text_of(r.file(), node, key);
+        else if (name == "governance")
+          s.governance = text_of(r.file(), node, key);
+        else if (name == "permissions")
+          s.permissions = text_of(r.file(), node, key);
+        else
+          return false;
         return true;
       },
       "enabled, identity_ca, certificate, private_key, permissions_ca, governance, permissions");
@@ -204,21 +235,33 @@ void read_dds(const TableReader& r, DdsSettings& d) {
           read_security(TableReader(r.file(), as_table(r.file(), node, key), key + "."), d.security);
           return true;
         }
-        if (name == "domain_id") d.domain_id = static_cast<int>(r.integer(node, key, 0, 232));
-        else if (name == "prefix") d.prefix = text_of(r.file(), node, key);
-        else if (name == "ros2_naming") d.ros2_naming = r.boolean(node, key);
-        else if (name == "publish_imu") d.publish_imu = r.boolean(node, key);
-        else if (name == "imu_topic") d.imu_topic = text_of(r.file(), node, key);
-        else if (name == "frame_id") d.frame_id = text_of(r.file(), node, key);
-        else if (name == "orientation_rate_hz") d.orientation_rate_hz = r.number(node, key, 0.0, 1000.0, true);
-        else if (name == "orientation_reliable") d.orientation_reliable = r.boolean(node, key);
-        else if (name == "profiles_xml") d.profiles_xml = text_of(r.file(), node, key);
+        if (name == "domain_id")
+          d.domain_id = static_cast<int>(r.integer(node, key, 0, 232));
+        else if (name == "prefix")
+          d.prefix = text_of(r.file(), node, key);
+        else if (name == "ros2_naming")
+          d.ros2_naming = r.boolean(node, key);
+        else if (name == "publish_imu")
+          d.publish_imu = r.boolean(node, key);
+        else if (name == "imu_topic")
+          d.imu_topic = text_of(r.file(), node, key);
+        else if (name == "frame_id")
+          d.frame_id = text_of(r.file(), node, key);
+        else if (name == "orientation_rate_hz")
+          d.orientation_rate_hz = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "orientation_reliable")
+          d.orientation_reliable = r.boolean(node, key);
+        else if (name == "profiles_xml")
+          d.profiles_xml = text_of(r.file(), node, key);
         else if (name == "discovery_server") {
           d.discovery_server = text_of(r.file(), node, key);
           std::string why;
-          if (!parse_server_address(*d.discovery_server, why)) fail(r.file(), node, key, why + ", found " + shown(node));
-        } else if (name == "command_max_age_s") d.command_limits.max_age_s = r.number(node, key, 0.0, 3600.0, true);
-        else return false;
+          if (!parse_server_address(*d.discovery_server, why))
+            fail(r.file(), node, key, why + ", found " + shown(node));
+        } else if (name == "command_max_age_s")
+          d.command_limits.max_age_s = r.number(node, key, 0.0, 3600.0, true);
+        else
+          return false;
         return true;
       },
       "domain_id, prefix, ros2_naming, publish_imu, imu_topic, frame_id, orientation_rate_hz, orientation_reliable, "
@@ -228,23 +271,30 @@ void read_dds(const TableReader& r, DdsSettings& d) {
 void read_sensor(const TableReader& r, SensorOptions& s) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
-        if (name == "bus") s.bus = text_of(r.file(), node, key);
+        if (name == "bus")
+          s.bus = text_of(r.file(), node, key);
         else if (name == "address") {
           s.address = static_cast<int>(r.integer(node, key, 0x6A, 0x6B));
         } else if (name == "rate_hz") {
           s.rate_hz = static_cast<int>(r.integer(node, key, 100, 800));
           if (s.rate_hz != 100 && s.rate_hz != 200 && s.rate_hz != 400 && s.rate_hz != 800)
             fail(r.file(), node, key, "is " + shown(node) + ", allowed 100, 200, 400 or 800");
-        } else if (name == "bandwidth") s.bandwidth = static_cast<int>(r.integer(node, key, 0, 3));
+        } else if (name == "bandwidth")
+          s.bandwidth = static_cast<int>(r.integer(node, key, 0, 3));
         else if (name == "full_scale_dps") {
           s.full_scale_dps = static_cast<int>(r.integer(node, key, 245, 2000));
           if (s.full_scale_dps != 245 && s.full_scale_dps != 500 && s.full_scale_dps != 2000)
             fail(r.file(), node, key, "is " + shown(node) + ", allowed 245, 500 or 2000");
-        } else if (name == "watermark") s.watermark = static_cast<int>(r.integer(node, key, 1, 30));
-        else if (name == "gpio_chip") s.gpio_chip = text_of(r.file(), node, key);
-        else if (name == "gpio_line") s.gpio_line = r.integer(node, key, 0, 1023);
-        else if (name == "int2_active_low") s.int2_active_low = r.boolean(node, key);
-        else return false;
+        } else if (name == "watermark")
+          s.watermark = static_cast<int>(r.integer(node, key, 1, 30));
+        else if (name == "gpio_chip")
+          s.gpio_chip = text_of(r.file(), node, key);
+        else if (name == "gpio_line")
+          s.gpio_line = r.integer(node, key, 0, 1023);
+        else if (name == "int2_active_low")
+          s.int2_active_low = r.boolean(node, key);
+        else
+          return false;
         return true;
       },
       "bus, address, rate_hz, bandwidth, full_scale_dps, watermark, gpio_chip, gpio_line, int2_active_low");
@@ -253,9 +303,12 @@ void read_sensor(const TableReader& r, SensorOptions& s) {
 void read_state(const TableReader& r, Config& c) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
-        if (name == "path") c.state_path = text_of(r.file(), node, key);
-        else if (name == "save_interval_s") c.state_save_interval_s = r.number(node, key, 1.0, 86400.0, false);
-        else return false;
+        if (name == "path")
+          c.state_path = text_of(r.file(), node, key);
+        else if (name == "save_interval_s")
+          c.state_save_interval_s = r.number(node, key, 1.0, 86400.0, false);
+        else
+          return false;
         return true;
       },
       "path, save_interval_s");
@@ -279,7 +332,8 @@ Config interpret(const toml::table& root, const std::string& file) {
             config.log_level = text_of(file, value, full_key);
             LogPriority level;
             if (!parse_log_level(config.log_level, level))
-              fail(file, value, full_key, "is " + shown(value) + ", allowed \"error\", \"warning\", \"notice\", \"info\" or \"debug\"");
+              fail(file, value, full_key,
+                   "is " + shown(value) + ", allowed \"error\", \"warning\", \"notice\", \"info\" or \"debug\"");
             return true;
           },
           "level");
@@ -292,11 +346,14 @@ Config interpret(const toml::table& root, const std::string& file) {
   const auto& sec = config.dds.security;
   if (sec.enabled) {
     for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"identity_ca", sec.identity_ca},
-                                     {"certificate", sec.certificate}, {"private_key", sec.private_key},
-                                     {"permissions_ca", sec.permissions_ca}, {"governance", sec.governance},
+                                     {"certificate", sec.certificate},
+                                     {"private_key", sec.private_key},
+                                     {"permissions_ca", sec.permissions_ca},
+                                     {"governance", sec.governance},
                                      {"permissions", sec.permissions}}) {
       if (value.empty()) throw ConfigError(file + ": [dds.security]: '" + key + "' is required when enabled = true");
-      if (!std::ifstream(value)) throw ConfigError(file + ": [dds.security]: " + key + " file " + value + " cannot be read");
+      if (!std::ifstream(value))
+        throw ConfigError(file + ": [dds.security]: " + key + " file " + value + " cannot be read");
     }
   }
   if (const auto problem = core::validate(config.estimator)) {
@@ -313,8 +370,8 @@ Config parse_config(std::string_view text, const std::string& name) {
     return interpret(root, name);
   } catch (const toml::parse_error& error) {
     const auto& begin = error.source().begin;
-    throw ConfigError(name + ":" + std::to_string(begin.line) + ":" + std::to_string(begin.column) +
-                      ": " + std::string(error.description()));
+    throw ConfigError(name + ":" + std::to_string(begin.line) + ":" + std::to_string(begin.column) + ": " +
+                      std::string(error.description()));
   }
 }
 

@@ -2,11 +2,7 @@
 
 #include <chrono>
 #include <cmath>
-#include <thread>
 #include <cstdio>
-#include <limits>
-#include <stdexcept>
-
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
@@ -16,6 +12,9 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include <limits>
+#include <stdexcept>
+#include <thread>
 
 #include "core/units.hpp"
 #include "daemon/dds_participant.hpp"
@@ -61,7 +60,8 @@ struct DdsNode::Impl : public DataReaderListener {
 
   DataWriter* writer(Topic* t, DataWriterQos qos, const std::string& profile) {
     DataWriterQos from_profile;
-    if (publisher->get_datawriter_qos_from_profile(profile, from_profile) == ReturnCode_t::RETCODE_OK) qos = from_profile;
+    if (publisher->get_datawriter_qos_from_profile(profile, from_profile) == ReturnCode_t::RETCODE_OK)
+      qos = from_profile;
     auto* w = publisher->create_datawriter(t, qos);
     if (w == nullptr) throw std::runtime_error("cannot create a DDS writer for " + t->get_name());
     return w;
@@ -95,7 +95,8 @@ DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()),
     d.participant = create_participant(settings, "headingd");
     d.publisher = d.participant->create_publisher(PUBLISHER_QOS_DEFAULT);
     d.subscriber = d.participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
-    if (d.publisher == nullptr || d.subscriber == nullptr) throw std::runtime_error("cannot create DDS publisher/subscriber");
+    if (d.publisher == nullptr || d.subscriber == nullptr)
+      throw std::runtime_error("cannot create DDS publisher/subscriber");
 
     DataWriterQos stream = DATAWRITER_QOS_DEFAULT;  // orientation and Imu
     stream.reliability().kind = settings.orientation_reliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
@@ -111,23 +112,24 @@ DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()),
     latched.history().kind = KEEP_LAST_HISTORY_QOS;
     latched.history().depth = 1;
 
-    d.orientation = d.writer(d.topic(topic_name(settings, "orientation"), TypeSupport(new headingd::msg::OrientationPubSubType())),
-                             stream, "headingd_orientation");
+    d.orientation =
+        d.writer(d.topic(topic_name(settings, "orientation"), TypeSupport(new headingd::msg::OrientationPubSubType())),
+                 stream, "headingd_orientation");
     if (settings.publish_imu) {
-      d.imu = d.writer(d.topic("rt/" + settings.imu_topic, TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType())), stream,
-                       "headingd_imu");
+      d.imu = d.writer(d.topic("rt/" + settings.imu_topic, TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType())),
+                       stream, "headingd_imu");
     }
-    d.bias = d.writer(d.topic(topic_name(settings, "bias"), TypeSupport(new headingd::msg::GyroBiasPubSubType())), latched,
-                      "headingd_bias");
-    d.status = d.writer(d.topic(topic_name(settings, "status"), TypeSupport(new headingd::msg::StatusPubSubType())), latched,
-                        "headingd_status");
+    d.bias = d.writer(d.topic(topic_name(settings, "bias"), TypeSupport(new headingd::msg::GyroBiasPubSubType())),
+                      latched, "headingd_bias");
+    d.status = d.writer(d.topic(topic_name(settings, "status"), TypeSupport(new headingd::msg::StatusPubSubType())),
+                        latched, "headingd_status");
     DataReaderQos command_qos = DATAREADER_QOS_DEFAULT;
     command_qos.reliability().kind = RELIABLE_RELIABILITY_QOS;
     command_qos.history().kind = KEEP_LAST_HISTORY_QOS;
     command_qos.history().depth = 16;
     d.command = d.subscriber->create_datareader(
-        d.topic(topic_name(settings, "command"), TypeSupport(new headingd::msg::HeadingCommandPubSubType())), command_qos,
-        &d);
+        d.topic(topic_name(settings, "command"), TypeSupport(new headingd::msg::HeadingCommandPubSubType())),
+        command_qos, &d);
     if (d.command == nullptr) throw std::runtime_error("cannot create the HeadingCommand reader");
   } catch (...) {
     delete_participant(d.participant);
@@ -155,8 +157,10 @@ bool DdsNode::wait_for_subscribers(double seconds) {
 
 void DdsNode::apply_commands(core::Estimator& estimator) {
   for (const auto& command : take_commands()) {
-    if (command.kind == CommandKind::SetHeading) estimator.set_heading(command.heading_deg, command.variance_deg2);
-    else estimator.set_motion_hint(command.hint);
+    if (command.kind == CommandKind::SetHeading)
+      estimator.set_heading(command.heading_deg, command.variance_deg2);
+    else
+      estimator.set_motion_hint(command.hint);
   }
 }
 
@@ -183,8 +187,9 @@ void DdsNode::publish(const core::Estimate& e, const core::Estimator& estimator,
   const double stamp_s = t + wall_offset_s;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   if (t >= next_orientation_s_) {
-    next_orientation_s_ = next_orientation_s_ < -1e299 ? t + 1.0 / settings_.orientation_rate_hz
-                                                        : std::max(next_orientation_s_ + 1.0 / settings_.orientation_rate_hz, t);
+    next_orientation_s_ = next_orientation_s_ < -1e299
+                              ? t + 1.0 / settings_.orientation_rate_hz
+                              : std::max(next_orientation_s_ + 1.0 / settings_.orientation_rate_hz, t);
     const double heading_rad = core::deg_to_rad(e.heading_deg);
     const double sigma_rad = core::deg_to_rad(e.heading_sigma_deg);
     const core::Vec3 rate_rad = e.rate_dps * core::kRadPerDeg;
@@ -244,10 +249,18 @@ void DdsNode::publish(const core::Estimate& e, const core::Estimator& estimator,
     b.accepted_segments(estimator.accepted_segments());
     b.rejected_segments(estimator.rejected_segments());
     switch (estimator.method()) {
-      case core::Method::Auto: b.method(headingd::msg::Method::METHOD_AUTO); break;
-      case core::Method::A: b.method(headingd::msg::Method::METHOD_A); break;
-      case core::Method::B: b.method(headingd::msg::Method::METHOD_B); break;
-      case core::Method::C: b.method(headingd::msg::Method::METHOD_C); break;
+      case core::Method::Auto:
+        b.method(headingd::msg::Method::METHOD_AUTO);
+        break;
+      case core::Method::A:
+        b.method(headingd::msg::Method::METHOD_A);
+        break;
+      case core::Method::B:
+        b.method(headingd::msg::Method::METHOD_B);
+        break;
+      case core::Method::C:
+        b.method(headingd::msg::Method::METHOD_C);
+        break;
     }
     d.bias->write(&b);
   }

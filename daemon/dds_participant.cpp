@@ -1,15 +1,15 @@
 #include "daemon/dds_participant.hpp"
-#include "daemon/server_address.hpp"
+
+#include <fastrtps/utils/IPLocator.h>
 
 #include <cstdlib>
 #include <ctime>
-
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/log/Log.hpp>
 #include <stdexcept>
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
-#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
-#include <fastrtps/utils/IPLocator.h>
+#include "daemon/server_address.hpp"
 
 namespace headingd::app {
 
@@ -43,7 +43,8 @@ DomainParticipant* create_participant(const DdsSettings& settings, const std::st
   DomainParticipantQos qos = factory->get_default_participant_qos();
   // A participant profile named "headingd" in the XML file, if any, is ours.
   DomainParticipantQos from_profile;
-  if (settings.profiles_xml && factory->get_participant_qos_from_profile("headingd", from_profile) == ReturnCode_t::RETCODE_OK)
+  if (settings.profiles_xml &&
+      factory->get_participant_qos_from_profile("headingd", from_profile) == ReturnCode_t::RETCODE_OK)
     qos = from_profile;
   qos.name(name);
   if (settings.discovery_server) {
@@ -62,7 +63,9 @@ DomainParticipant* create_participant(const DdsSettings& settings, const std::st
   if (settings.security.enabled) {
     const auto& s = settings.security;
     auto& properties = qos.properties().properties();
-    const auto set = [&](const std::string& property, const std::string& value) { properties.emplace_back(property, value); };
+    const auto set = [&](const std::string& property, const std::string& value) {
+      properties.emplace_back(property, value);
+    };
     set("dds.sec.auth.plugin", "builtin.PKI-DH");
     set("dds.sec.auth.builtin.PKI-DH.identity_ca", "file://" + s.identity_ca);
     set("dds.sec.auth.builtin.PKI-DH.identity_certificate", "file://" + s.certificate);

@@ -2,9 +2,8 @@
 // Creating and deleting a Fast DDS participant the way every headingd tool needs it: XML
 // profiles loaded first (when configured), the Discovery Server client set up (when
 // configured), everything deleted on the way out.
-#include <string>
-
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <string>
 
 #include "daemon/dds_settings.hpp"
 

@@ -10,23 +10,23 @@ namespace headingd::app {
 // signed governance and permissions, encryption. File paths; all required when enabled.
 struct DdsSecurity {
   bool enabled = false;
-  std::string identity_ca;           // CA certificate that signed every identity (PEM)
-  std::string certificate;           // this participant's identity certificate (PEM)
-  std::string private_key;           // its private key (PEM)
-  std::string permissions_ca;        // CA that signed governance and permissions
-  std::string governance;            // signed governance document (S/MIME)
-  std::string permissions;           // signed permissions document (S/MIME)
+  std::string identity_ca;     // CA certificate that signed every identity (PEM)
+  std::string certificate;     // this participant's identity certificate (PEM)
+  std::string private_key;     // its private key (PEM)
+  std::string permissions_ca;  // CA that signed governance and permissions
+  std::string governance;      // signed governance document (S/MIME)
+  std::string permissions;     // signed permissions document (S/MIME)
 };
 
 struct DdsSettings {
-  int domain_id = 0;                    // [0, 232]
-  std::string prefix = "headingd";      // topics PREFIX/orientation, /bias, /status, /command
-  bool ros2_naming = false;             // our topics as ROS 2 names them on the wire: rt/PREFIX/...
-  bool publish_imu = true;              // sensor_msgs/msg/Imu on rt/IMU_TOPIC
+  int domain_id = 0;                // [0, 232]
+  std::string prefix = "headingd";  // topics PREFIX/orientation, /bias, /status, /command
+  bool ros2_naming = false;         // our topics as ROS 2 names them on the wire: rt/PREFIX/...
+  bool publish_imu = true;          // sensor_msgs/msg/Imu on rt/IMU_TOPIC
   std::string imu_topic = "imu";
   std::string frame_id = "imu_link";
-  double orientation_rate_hz = 50.0;    // Orientation and Imu messages per second (0, 1000]
-  bool orientation_reliable = false;    // false: best-effort (latest wins); true: reliable
+  double orientation_rate_hz = 50.0;            // Orientation and Imu messages per second (0, 1000]
+  bool orientation_reliable = false;            // false: best-effort (latest wins); true: reliable
   std::optional<std::string> profiles_xml;      // Fast DDS XML profiles (override our QoS)
   std::optional<std::string> discovery_server;  // HOST:PORT of a Fast DDS Discovery Server
   CommandLimits command_limits;

@@ -3,9 +3,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <mutex>
-#include <thread>
-
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -16,6 +13,8 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include <mutex>
+#include <thread>
 
 #include "core/units.hpp"
 #include "daemon/config_file.hpp"
@@ -41,16 +40,18 @@ double seconds(const S& stamp) {
 std::string line_for(const headingd::msg::Orientation& m, bool json) {
   char t[400];
   if (json)
-    std::snprintf(t, sizeof t,
-                  "{\"topic\":\"orientation\",\"stamp\":%.9f,\"seq\":%llu,\"heading_rad\":%.9f,\"heading_variance_rad2\":%.6g,"
-                  "\"q\":[%.9f,%.9f,%.9f,%.9f],\"rate_rad_s\":[%.6g,%.6g,%.6g],\"still\":%s}",
-                  seconds(m.stamp()), static_cast<unsigned long long>(m.seq()), m.heading_rad(), m.heading_variance_rad2(),
-                  m.qw(), m.qx(), m.qy(), m.qz(), m.rate_x_rad_s(), m.rate_y_rad_s(), m.rate_z_rad_s(),
-                  m.still() ? "true" : "false");
+    std::snprintf(
+        t, sizeof t,
+        "{\"topic\":\"orientation\",\"stamp\":%.9f,\"seq\":%llu,\"heading_rad\":%.9f,\"heading_variance_rad2\":%.6g,"
+        "\"q\":[%.9f,%.9f,%.9f,%.9f],\"rate_rad_s\":[%.6g,%.6g,%.6g],\"still\":%s}",
+        seconds(m.stamp()), static_cast<unsigned long long>(m.seq()), m.heading_rad(), m.heading_variance_rad2(),
+        m.qw(), m.qx(), m.qy(), m.qz(), m.rate_x_rad_s(), m.rate_y_rad_s(), m.rate_z_rad_s(),
+        m.still() ? "true" : "false");
   else
-    std::snprintf(t, sizeof t, "orientation stamp=%.6f seq=%llu heading_rad=%.6f variance=%.3g q=(%.6f %.6f %.6f %.6f) still=%d",
-                  seconds(m.stamp()), static_cast<unsigned long long>(m.seq()), m.heading_rad(), m.heading_variance_rad2(),
-                  m.qw(), m.qx(), m.qy(), m.qz(), m.still() ? 1 : 0);
+    std::snprintf(t, sizeof t,
+                  "orientation stamp=%.6f seq=%llu heading_rad=%.6f variance=%.3g q=(%.6f %.6f %.6f %.6f) still=%d",
+                  seconds(m.stamp()), static_cast<unsigned long long>(m.seq()), m.heading_rad(),
+                  m.heading_variance_rad2(), m.qw(), m.qx(), m.qy(), m.qz(), m.still() ? 1 : 0);
   std::string s = t;
   if (json) {  // JSON has no NaN
     for (const char* bad : {"nan", "-nan", "inf", "-inf"}) {
@@ -64,38 +65,43 @@ std::string line_for(const headingd::msg::Orientation& m, bool json) {
 std::string line_for(const headingd::msg::GyroBias& m, bool json) {
   char t[400];
   std::snprintf(t, sizeof t,
-                json ? "{\"topic\":\"bias\",\"stamp\":%.9f,\"bias_rad_s\":[%.9g,%.9g,%.9g],\"accepted\":%llu,\"rejected\":%llu,\"method\":%d}"
+                json ? "{\"topic\":\"bias\",\"stamp\":%.9f,\"bias_rad_s\":[%.9g,%.9g,%.9g],\"accepted\":%llu,"
+                       "\"rejected\":%llu,\"method\":%d}"
                      : "bias stamp=%.6f bias_rad_s=(%.9g %.9g %.9g) accepted=%llu rejected=%llu method=%d",
                 seconds(m.stamp()), m.bias_x_rad_s(), m.bias_y_rad_s(), m.bias_z_rad_s(),
-                static_cast<unsigned long long>(m.accepted_segments()), static_cast<unsigned long long>(m.rejected_segments()),
-                static_cast<int>(m.method()));
+                static_cast<unsigned long long>(m.accepted_segments()),
+                static_cast<unsigned long long>(m.rejected_segments()), static_cast<int>(m.method()));
   return t;
 }
 
 std::string line_for(const headingd::msg::Status& m, bool json) {
   char t[400];
-  std::snprintf(t, sizeof t,
-                json ? "{\"topic\":\"status\",\"stamp\":%.9f,\"state\":%d,\"rate_hz\":%.3f,\"samples\":%llu,\"dropped\":%llu,"
-                       "\"bus_errors\":%llu,\"overruns\":%llu,\"commands_accepted\":%llu,\"commands_rejected\":%llu,\"uptime_s\":%.3f,\"version\":\"%s\"}"
-                     : "status stamp=%.6f state=%d rate_hz=%.3f samples=%llu dropped=%llu bus_errors=%llu overruns=%llu "
-                       "commands_accepted=%llu commands_rejected=%llu uptime_s=%.3f version=%s",
-                seconds(m.stamp()), static_cast<int>(m.state()), m.sample_rate_hz(),
-                static_cast<unsigned long long>(m.samples_received()), static_cast<unsigned long long>(m.samples_dropped()),
-                static_cast<unsigned long long>(m.bus_errors()), static_cast<unsigned long long>(m.fifo_overruns()),
-                static_cast<unsigned long long>(m.commands_accepted()), static_cast<unsigned long long>(m.commands_rejected()),
-                m.uptime_s(), m.version().c_str());
+  std::snprintf(
+      t, sizeof t,
+      json ? "{\"topic\":\"status\",\"stamp\":%.9f,\"state\":%d,\"rate_hz\":%.3f,\"samples\":%llu,\"dropped\":%llu,"
+             "\"bus_errors\":%llu,\"overruns\":%llu,\"commands_accepted\":%llu,\"commands_rejected\":%llu,\"uptime_s\":"
+             "%.3f,\"version\":\"%s\"}"
+           : "status stamp=%.6f state=%d rate_hz=%.3f samples=%llu dropped=%llu bus_errors=%llu overruns=%llu "
+             "commands_accepted=%llu commands_rejected=%llu uptime_s=%.3f version=%s",
+      seconds(m.stamp()), static_cast<int>(m.state()), m.sample_rate_hz(),
+      static_cast<unsigned long long>(m.samples_received()), static_cast<unsigned long long>(m.samples_dropped()),
+      static_cast<unsigned long long>(m.bus_errors()), static_cast<unsigned long long>(m.fifo_overruns()),
+      static_cast<unsigned long long>(m.commands_accepted()), static_cast<unsigned long long>(m.commands_rejected()),
+      m.uptime_s(), m.version().c_str());
   return t;
 }
 
 std::string line_for(const sensor_msgs::msg::dds_::Imu_& m, bool json) {
   char t[400];
-  std::snprintf(t, sizeof t,
-                json ? "{\"topic\":\"imu\",\"stamp\":%.9f,\"frame_id\":\"%s\",\"q\":[%.9f,%.9f,%.9f,%.9f],\"angular_velocity\":[%.6g,%.6g,%.6g],"
-                       "\"linear_acceleration_covariance0\":%g}"
-                     : "imu stamp=%.6f frame_id=%s q=(%.6f %.6f %.6f %.6f) angular_velocity=(%.6g %.6g %.6g) lin_acc_cov0=%g",
-                seconds(m.header().stamp()), m.header().frame_id().c_str(), m.orientation().w(), m.orientation().x(),
-                m.orientation().y(), m.orientation().z(), m.angular_velocity().x(), m.angular_velocity().y(),
-                m.angular_velocity().z(), m.linear_acceleration_covariance()[0]);
+  std::snprintf(
+      t, sizeof t,
+      json ? "{\"topic\":\"imu\",\"stamp\":%.9f,\"frame_id\":\"%s\",\"q\":[%.9f,%.9f,%.9f,%.9f],\"angular_velocity\":[%"
+             ".6g,%.6g,%.6g],"
+             "\"linear_acceleration_covariance0\":%g}"
+           : "imu stamp=%.6f frame_id=%s q=(%.6f %.6f %.6f %.6f) angular_velocity=(%.6g %.6g %.6g) lin_acc_cov0=%g",
+      seconds(m.header().stamp()), m.header().frame_id().c_str(), m.orientation().w(), m.orientation().x(),
+      m.orientation().y(), m.orientation().z(), m.angular_velocity().x(), m.angular_velocity().y(),
+      m.angular_velocity().z(), m.linear_acceleration_covariance()[0]);
   return t;
 }
 
@@ -131,9 +137,7 @@ class Printer : public DataReaderListener {
   bool json_;
 };
 
-DdsSettings load_dds(const std::optional<std::string>& path) {
-  return path ? load_config(*path).dds : DdsSettings{};
-}
+DdsSettings load_dds(const std::optional<std::string>& path) { return path ? load_config(*path).dds : DdsSettings{}; }
 
 }  // namespace
 
@@ -149,7 +153,8 @@ int run_echo(const EchoOptions& options) {
   if (topics.empty()) topics = {"orientation", "imu", "bias", "status"};
   for (const auto& t : topics) {
     if (t != "orientation" && t != "imu" && t != "bias" && t != "status" && t != "command") {
-      std::fprintf(stderr, "headingd: echo: unknown topic '%s' (known: orientation, imu, bias, status, command)\n", t.c_str());
+      std::fprintf(stderr, "headingd: echo: unknown topic '%s' (known: orientation, imu, bias, status, command)\n",
+                   t.c_str());
       return kExitUsage;
     }
   }
@@ -159,7 +164,8 @@ int run_echo(const EchoOptions& options) {
   try {
     participant = create_participant(settings, "headingd-echo");
     Subscriber* subscriber = participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
-    auto add = [&](const std::string& name, TypeSupport type, DataReaderListener* listener, bool latched, bool reliable) {
+    auto add = [&](const std::string& name, TypeSupport type, DataReaderListener* listener, bool latched,
+                   bool reliable) {
       type.register_type(participant);
       Topic* topic = participant->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);
       DataReaderQos qos = DATAREADER_QOS_DEFAULT;
@@ -173,22 +179,24 @@ int run_echo(const EchoOptions& options) {
     for (const auto& t : topics) {
       if (t == "orientation") {
         listeners.push_back(std::make_unique<Printer<headingd::msg::Orientation>>(options.json));
-        add(topic_name(settings, "orientation"), TypeSupport(new headingd::msg::OrientationPubSubType()), listeners.back().get(),
-            false, options.reliable);
+        add(topic_name(settings, "orientation"), TypeSupport(new headingd::msg::OrientationPubSubType()),
+            listeners.back().get(), false, options.reliable);
       } else if (t == "imu") {
         listeners.push_back(std::make_unique<Printer<sensor_msgs::msg::dds_::Imu_>>(options.json));
-        add("rt/" + settings.imu_topic, TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType()), listeners.back().get(), false,
-            options.reliable);
+        add("rt/" + settings.imu_topic, TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType()),
+            listeners.back().get(), false, options.reliable);
       } else if (t == "bias") {
         listeners.push_back(std::make_unique<Printer<headingd::msg::GyroBias>>(options.json));
-        add(topic_name(settings, "bias"), TypeSupport(new headingd::msg::GyroBiasPubSubType()), listeners.back().get(), true, true);
+        add(topic_name(settings, "bias"), TypeSupport(new headingd::msg::GyroBiasPubSubType()), listeners.back().get(),
+            true, true);
       } else if (t == "status") {
         listeners.push_back(std::make_unique<Printer<headingd::msg::Status>>(options.json));
-        add(topic_name(settings, "status"), TypeSupport(new headingd::msg::StatusPubSubType()), listeners.back().get(), true, true);
+        add(topic_name(settings, "status"), TypeSupport(new headingd::msg::StatusPubSubType()), listeners.back().get(),
+            true, true);
       } else {
         listeners.push_back(std::make_unique<Printer<headingd::msg::HeadingCommand>>(options.json));
-        add(topic_name(settings, "command"), TypeSupport(new headingd::msg::HeadingCommandPubSubType()), listeners.back().get(),
-            false, true);
+        add(topic_name(settings, "command"), TypeSupport(new headingd::msg::HeadingCommandPubSubType()),
+            listeners.back().get(), false, true);
       }
     }
   } catch (const std::exception& error) {
@@ -218,12 +226,17 @@ int run_command(const CommandOptions& options) {
     return kExitConfig;
   }
   headingd::msg::HeadingCommand command;
-  if (options.kind == "set-heading") command.kind(headingd::msg::CommandKind::COMMAND_SET_HEADING);
-  else if (options.kind == "stopped") command.kind(headingd::msg::CommandKind::COMMAND_PLATFORM_STOPPED);
-  else if (options.kind == "moving") command.kind(headingd::msg::CommandKind::COMMAND_PLATFORM_MOVING);
-  else if (options.kind == "clear") command.kind(headingd::msg::CommandKind::COMMAND_CLEAR_HINT);
+  if (options.kind == "set-heading")
+    command.kind(headingd::msg::CommandKind::COMMAND_SET_HEADING);
+  else if (options.kind == "stopped")
+    command.kind(headingd::msg::CommandKind::COMMAND_PLATFORM_STOPPED);
+  else if (options.kind == "moving")
+    command.kind(headingd::msg::CommandKind::COMMAND_PLATFORM_MOVING);
+  else if (options.kind == "clear")
+    command.kind(headingd::msg::CommandKind::COMMAND_CLEAR_HINT);
   else {
-    std::fprintf(stderr, "headingd: command: '%s' is not set-heading, stopped, moving or clear\n", options.kind.c_str());
+    std::fprintf(stderr, "headingd: command: '%s' is not set-heading, stopped, moving or clear\n",
+                 options.kind.c_str());
     return kExitUsage;
   }
   command.heading_rad(options.heading_rad.value_or(core::deg_to_rad(options.heading_deg)));
@@ -247,7 +260,8 @@ int run_command(const CommandOptions& options) {
       if (matched.current_count > 0) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
-    if (matched.current_count == 0) throw std::runtime_error("no headingd is listening on " + topic_name(settings, "command"));
+    if (matched.current_count == 0)
+      throw std::runtime_error("no headingd is listening on " + topic_name(settings, "command"));
     const double stamp = wall_now_s() + options.stamp_offset_s;
     command.stamp().sec(static_cast<std::int32_t>(std::floor(stamp)));
     command.stamp().nanosec(static_cast<std::uint32_t>((stamp - std::floor(stamp)) * 1e9));

@@ -33,8 +33,8 @@ TimeSeries read_columns(const std::string& path, const std::string& time_column,
       continue;
     }
     if (fields.count != columns)
-      throw drivers::InputError(path, line_number, "expected " + std::to_string(columns) + " fields, found " +
-                                                       std::to_string(fields.count));
+      throw drivers::InputError(
+          path, line_number, "expected " + std::to_string(columns) + " fields, found " + std::to_string(fields.count));
     const auto t = drivers::parse_double(fields.items[*time_index]);
     const auto v = drivers::parse_double(fields.items[*value_index]);
     if (!t || !v) throw drivers::InputError(path, line_number, "time or value is not a finite number");

@@ -25,7 +25,8 @@ LiveSource::LiveSource(const SensorOptions& options) : options_(options) {
     sim.rate_error = options.sim_rate_error;
     simulator_ = std::make_unique<drivers::L3gd20hSimulator>(sim, *options.simulated_chip, options.sim_seed);
     simulator_->set_realtime(options.sim_realtime);
-    if (options.sim_dead_after_s >= 0) simulator_->inject_dead_after(static_cast<std::int64_t>(options.sim_dead_after_s * 1e9));
+    if (options.sim_dead_after_s >= 0)
+      simulator_->inject_dead_after(static_cast<std::int64_t>(options.sim_dead_after_s * 1e9));
     bus = simulator_.get();
     ready = simulator_.get();
   } else {
@@ -51,19 +52,23 @@ LiveSource::LiveSource(const SensorOptions& options) : options_(options) {
 
 std::string LiveSource::header_comment() const {
   char text[512];
-  std::snprintf(text, sizeof text,
-                "# sensor: ST L3GD20H at 0x%02x on %s%s\n"
-                "# settings: ODR %d Hz nominal, bandwidth code %d, full scale +-%d dps (%.2f mdps/LSB), FIFO dynamic "
-                "stream, watermark %d, data-ready %s\n"
-                "# recorded by: headingd (record, or run --record); time_s is the driver's reconstructed monotonic time\n",
-                options_.address, options_.simulated_chip ? "the simulated bus" : options_.bus.c_str(),
-                options_.simulated_chip ? (" (simulator, scenario " + *options_.simulated_chip + ", seed " +
-                                           std::to_string(options_.sim_seed) + ")")
-                                              .c_str()
-                                        : "",
-                options_.rate_hz, options_.bandwidth, options_.full_scale_dps, driver_->sensitivity_dps() * 1000.0,
-                options_.watermark,
-                options_.simulated_chip ? "simulated INT2" : (options_.gpio_chip ? (*options_.gpio_chip + " line " + std::to_string(options_.gpio_line)).c_str() : "timed poll"));
+  std::snprintf(
+      text, sizeof text,
+      "# sensor: ST L3GD20H at 0x%02x on %s%s\n"
+      "# settings: ODR %d Hz nominal, bandwidth code %d, full scale +-%d dps (%.2f mdps/LSB), FIFO dynamic "
+      "stream, watermark %d, data-ready %s\n"
+      "# recorded by: headingd (record, or run --record); time_s is the driver's reconstructed monotonic time\n",
+      options_.address, options_.simulated_chip ? "the simulated bus" : options_.bus.c_str(),
+      options_.simulated_chip
+          ? (" (simulator, scenario " + *options_.simulated_chip + ", seed " + std::to_string(options_.sim_seed) + ")")
+                .c_str()
+          : "",
+      options_.rate_hz, options_.bandwidth, options_.full_scale_dps, driver_->sensitivity_dps() * 1000.0,
+      options_.watermark,
+      options_.simulated_chip
+          ? "simulated INT2"
+          : (options_.gpio_chip ? (*options_.gpio_chip + " line " + std::to_string(options_.gpio_line)).c_str()
+                                : "timed poll"));
   return text;
 }
 

@@ -28,8 +28,8 @@ struct SensorOptions {
   std::optional<std::string> simulated_chip;
   std::uint64_t sim_seed = 1;
   double sim_rate_error = 0.0;
-  bool sim_realtime = false;        // the simulator runs at the chip's real pace
-  double sim_dead_after_s = -1.0;   // the simulated sensor dies after this long
+  bool sim_realtime = false;       // the simulator runs at the chip's real pace
+  double sim_dead_after_s = -1.0;  // the simulated sensor dies after this long
 };
 
 class LiveSource {

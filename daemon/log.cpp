@@ -29,8 +29,10 @@ void set_log_level(LogPriority level) {
 }
 
 bool parse_log_level(const std::string& text, LogPriority& level) {
-  static const std::map<std::string, LogPriority> names = {{"error", LogPriority::Error},   {"warning", LogPriority::Warning},
-                                                           {"notice", LogPriority::Notice}, {"info", LogPriority::Info},
+  static const std::map<std::string, LogPriority> names = {{"error", LogPriority::Error},
+                                                           {"warning", LogPriority::Warning},
+                                                           {"notice", LogPriority::Notice},
+                                                           {"info", LogPriority::Info},
                                                            {"debug", LogPriority::Debug}};
   const auto it = names.find(text);
   if (it == names.end()) return false;
@@ -45,7 +47,8 @@ void log(LogPriority priority, const std::string& key, const std::string& messag
   const auto now = std::chrono::steady_clock::now();
   if (now - w.start >= kWindow) {
     if (w.held_back > 0)
-      std::fprintf(stderr, "<%d>headingd: %d more like \"%s\" held back\n", static_cast<int>(priority), w.held_back, key.c_str());
+      std::fprintf(stderr, "<%d>headingd: %d more like \"%s\" held back\n", static_cast<int>(priority), w.held_back,
+                   key.c_str());
     w = Window{now, 0, 0};
   }
   if (w.printed >= kBurst) {

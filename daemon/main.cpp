@@ -19,7 +19,8 @@ void add_sensor_options(CLI::App* cmd, app::SensorOptions& s) {
   cmd->add_option("--bus", s.bus, "I2C adapter device")->capture_default_str();
   cmd->add_option("--address", s.address, "7-bit address: 0x6A (SA0 low) or 0x6B")->capture_default_str();
   cmd->add_option("--rate", s.rate_hz, "Nominal output rate, Hz: 100, 200, 400, 800")->capture_default_str();
-  cmd->add_option("--bandwidth", s.bandwidth, "Bandwidth code 0..3 (at 400 Hz: 20, 25, 50, 110 Hz)")->capture_default_str();
+  cmd->add_option("--bandwidth", s.bandwidth, "Bandwidth code 0..3 (at 400 Hz: 20, 25, 50, 110 Hz)")
+      ->capture_default_str();
   cmd->add_option("--full-scale", s.full_scale_dps, "Full scale, dps: 245, 500, 2000")->capture_default_str();
   cmd->add_option("--watermark", s.watermark, "FIFO watermark, samples (1..30)")->capture_default_str();
   cmd->add_option("--gpio-chip", s.gpio_chip, "gpiochip of the DRDY/INT2 line (name, path or number); none: poll");
@@ -54,7 +55,8 @@ int main(int argc, char** argv) {
   replay_cmd->add_option("--speed", replay.speed, "max, realtime, or a factor of real time")->capture_default_str();
   replay_cmd->add_option("--wait-subscribers", replay.wait_subscribers_s,
                          "Wait up to this many seconds for an orientation subscriber before starting");
-  replay_cmd->add_option("--linger", replay.linger_s, "Stay this many seconds after the end (late joiners get the latest)");
+  replay_cmd->add_option("--linger", replay.linger_s,
+                         "Stay this many seconds after the end (late joiners get the latest)");
 
   app::SimulateOptions simulate;
   auto* simulate_cmd = cli.add_subcommand("simulate", "Simulate a gyro recording with its truth");

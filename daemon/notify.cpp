@@ -1,7 +1,8 @@
 #include "daemon/notify.hpp"
 
-#include <cstdint>
 #include <systemd/sd-daemon.h>
+
+#include <cstdint>
 
 namespace headingd::app {
 

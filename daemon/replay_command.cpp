@@ -1,21 +1,21 @@
 #include "daemon/replay_command.hpp"
 
 #include <array>
-#include <cstdlib>
-#include <thread>
-#include <memory>
-#include <vector>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <thread>
+#include <vector>
 
 #include "core/estimator.hpp"
 #include "daemon/config_file.hpp"
 #include "daemon/dds_node.hpp"
 #include "daemon/dds_participant.hpp"
-#include "daemon/signals.hpp"
 #include "daemon/estimates_writer.hpp"
 #include "daemon/exit_codes.hpp"
+#include "daemon/signals.hpp"
 #include "drivers/csv_replay.hpp"
 
 namespace headingd::app {
@@ -24,8 +24,8 @@ namespace {
 constexpr std::size_t kBatch = 4096;
 constexpr double kNominalRateHz = 400.0;  // sizes the writer's wait buffer only
 
-void print_summary(const drivers::SampleSource& source, const core::Estimator& estimator,
-                   double first_t_s, double wall_s, std::uint64_t rows, const std::string& output) {
+void print_summary(const drivers::SampleSource& source, const core::Estimator& estimator, double first_t_s,
+                   double wall_s, std::uint64_t rows, const std::string& output) {
   const auto& last = estimator.last();
   const double span_s = last.t_s - first_t_s;
   const auto samples = static_cast<double>(estimator.samples());
@@ -41,14 +41,15 @@ void print_summary(const drivers::SampleSource& source, const core::Estimator& e
   std::fprintf(stderr, "  sigma_still  x %.4f  y %.4f  z %.4f dps\n", sigma.x(), sigma.y(), sigma.z());
   if (const auto* automatic = estimator.automatic()) {
     const auto n = automatic->noise_density_dps_rt_hz();
-    std::fprintf(stderr, "  noise        x %.4f  y %.4f  z %.4f dps/sqrt(Hz) (angle random walk)\n", n.x(), n.y(), n.z());
+    std::fprintf(stderr, "  noise        x %.4f  y %.4f  z %.4f dps/sqrt(Hz) (angle random walk)\n", n.x(), n.y(),
+                 n.z());
     const auto& model = automatic->temperature_model(2);
     if (model.ready()) {
       std::fprintf(stderr, "  temperature  z bias slope %+.5f dps/C over a %.1f C span (%u segments)\n",
                    model.slope_dps_per_c(25.0), model.weighted_span_c(), model.points());
     } else {
-      std::fprintf(stderr, "  temperature  model not in use yet (span %.1f C, %u segments)\n",
-                   model.weighted_span_c(), model.points());
+      std::fprintf(stderr, "  temperature  model not in use yet (span %.1f C, %u segments)\n", model.weighted_span_c(),
+                   model.points());
     }
   }
   const auto& bias = last.bias_dps;
@@ -89,7 +90,8 @@ int run_replay(const ReplayOptions& options) {
     char* end = nullptr;
     speed_factor = std::strtod(options.speed.c_str(), &end);
     if (end == options.speed.c_str() || *end != '\0' || !(speed_factor > 0.0) || !std::isfinite(speed_factor)) {
-      std::fprintf(stderr, "headingd: --speed: '%s' is not max, realtime or a positive factor\n", options.speed.c_str());
+      std::fprintf(stderr, "headingd: --speed: '%s' is not max, realtime or a positive factor\n",
+                   options.speed.c_str());
       return kExitUsage;
     }
   }
@@ -115,7 +117,8 @@ int run_replay(const ReplayOptions& options) {
     }
     install_stop_signals();
     if (options.wait_subscribers_s > 0 && !node->wait_for_subscribers(options.wait_subscribers_s)) {
-      std::fprintf(stderr, "headingd: no orientation subscriber within %.1f s; publishing anyway\n", options.wait_subscribers_s);
+      std::fprintf(stderr, "headingd: no orientation subscriber within %.1f s; publishing anyway\n",
+                   options.wait_subscribers_s);
     }
   }
 
@@ -179,7 +182,8 @@ int run_replay(const ReplayOptions& options) {
     while (!stop_requested() && std::chrono::steady_clock::now() < linger_until)
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (!options.quiet) {
-      std::fprintf(stderr, "headingd replay: published %llu orientation messages; commands %llu accepted, %llu refused\n",
+      std::fprintf(stderr,
+                   "headingd replay: published %llu orientation messages; commands %llu accepted, %llu refused\n",
                    static_cast<unsigned long long>(node->orientation_sent()),
                    static_cast<unsigned long long>(node->commands_accepted()),
                    static_cast<unsigned long long>(node->commands_rejected()));

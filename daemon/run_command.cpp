@@ -1,29 +1,28 @@
 #include "daemon/run_command.hpp"
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <vector>
 
 #include "core/estimator.hpp"
 #include "daemon/config_file.hpp"
 #include "daemon/csv_out.hpp"
-#include "daemon/estimates_writer.hpp"
-#include "daemon/exit_codes.hpp"
-#include "daemon/signals.hpp"
 #include "daemon/dds_node.hpp"
 #include "daemon/dds_participant.hpp"
-#include "daemon/notify.hpp"
+#include "daemon/estimates_writer.hpp"
+#include "daemon/exit_codes.hpp"
 #include "daemon/log.hpp"
+#include "daemon/notify.hpp"
+#include "daemon/signals.hpp"
 #include "daemon/state_file.hpp"
-#include <chrono>
-#include <limits>
 
 namespace headingd::app {
 namespace {
-
 
 // Writes samples as the native CSV that `replay` reads: 9 decimals of time (the driver's
 // nanoseconds) and 5 of rate (a multiple of the LSB exactly), so a replay sees the very same
@@ -167,8 +166,9 @@ void reload(const std::optional<std::string>& config_path, const std::optional<s
   LogPriority level;
   if (parse_log_level(config.log_level, level)) set_log_level(level);
   log(LogPriority::Notice, "reload",
-      "SIGHUP: configuration reloaded from " + *config_path + " (method " + std::string(core::method_name(settings.method)) +
-          ", log level " + config.log_level + "); heading and bias kept");
+      "SIGHUP: configuration reloaded from " + *config_path + " (method " +
+          std::string(core::method_name(settings.method)) + ", log level " + config.log_level +
+          "); heading and bias kept");
 }
 
 }  // namespace
@@ -226,8 +226,8 @@ int run_live(const RunOptions& options) {
     std::unique_ptr<EstimatesWriter> writer;
     if (options.output) {
       out = std::make_unique<CsvOut>(*options.output);
-      writer = std::make_unique<EstimatesWriter>(*out, options.output_rate_hz,
-                                                 static_cast<std::size_t>(std::ceil(400.0 * settings.segments.segment_s)));
+      writer = std::make_unique<EstimatesWriter>(
+          *out, options.output_rate_hz, static_cast<std::size_t>(std::ceil(400.0 * settings.segments.segment_s)));
     }
     std::unique_ptr<Recorder> recorder;
     if (options.record_path) recorder = std::make_unique<Recorder>(*options.record_path, source->header_comment());
@@ -266,9 +266,10 @@ int run_live(const RunOptions& options) {
       if (now - last_status >= std::chrono::seconds(10)) {
         last_status = now;
         char text[200];
-        std::snprintf(text, sizeof text, "heading %.2f deg (sigma %.2f), bias z %+.4f dps, %llu samples, %llu bus errors",
-                      estimator_owner->last().heading_deg, estimator_owner->last().heading_sigma_deg, estimator_owner->last().bias_dps.z(),
-                      static_cast<unsigned long long>(counters.samples),
+        std::snprintf(text, sizeof text,
+                      "heading %.2f deg (sigma %.2f), bias z %+.4f dps, %llu samples, %llu bus errors",
+                      estimator_owner->last().heading_deg, estimator_owner->last().heading_sigma_deg,
+                      estimator_owner->last().bias_dps.z(), static_cast<unsigned long long>(counters.samples),
                       static_cast<unsigned long long>(counters.bus_errors));
         notifier.status(text);
       }
@@ -292,8 +293,8 @@ int run_live(const RunOptions& options) {
   std::fprintf(stderr, "headingd run: %s\n", stop_requested() ? "stopped by signal" : "done");
   print_counters(source->driver());
   std::fprintf(stderr, "  estimator    %s; heading %+.3f deg, sigma %.3f deg; bias z %+.4f dps\n",
-               std::string(core::method_name(estimator_owner->method())).c_str(), last.heading_deg, last.heading_sigma_deg,
-               last.bias_dps.z());
+               std::string(core::method_name(estimator_owner->method())).c_str(), last.heading_deg,
+               last.heading_sigma_deg, last.bias_dps.z());
   return kExitOk;
 }
 

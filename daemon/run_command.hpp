@@ -9,15 +9,15 @@ namespace headingd::app {
 
 struct RunOptions {
   SensorOptions sensor;
-  std::set<std::string> sensor_given;        // sensor options given on the command line (win over the file)
+  std::set<std::string> sensor_given;  // sensor options given on the command line (win over the file)
   std::optional<std::string> config_path;
   std::optional<std::string> method;
-  std::optional<std::string> output;         // estimates CSV
+  std::optional<std::string> output;  // estimates CSV
   double output_rate_hz = 10.0;
-  std::optional<std::string> record_path;    // also write what the sensor delivers (native CSV)
-  std::optional<std::string> state_path;     // overrides [state] path
-  double duration_s = 0.0;                    // 0: until SIGINT or SIGTERM
-  bool publish = true;                        // DDS
+  std::optional<std::string> record_path;  // also write what the sensor delivers (native CSV)
+  std::optional<std::string> state_path;   // overrides [state] path
+  double duration_s = 0.0;                 // 0: until SIGINT or SIGTERM
+  bool publish = true;                     // DDS
 };
 
 // `headingd run`: the live sensor through the same pipeline as replay, publishing over DDS,

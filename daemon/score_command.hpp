@@ -9,7 +9,7 @@ struct ScoreOptions {
   std::string truth;
   std::string label;
   std::optional<std::string> errors_output;  // time_h,error_deg at 1 Hz, for plots
-  bool header = false;                        // print the table header first
+  bool header = false;                       // print the table header first
 };
 
 // Prints one table row: label, max |E|, final |E|, RMS (deg) and drift (deg/h).

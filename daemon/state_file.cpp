@@ -1,16 +1,17 @@
 #include "daemon/state_file.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
-#include <unistd.h>
 #include <vector>
 
 namespace headingd::app {
@@ -57,7 +58,8 @@ std::string format_state(const SavedState& s) {
   body << "arw_dps_rt_hz=" << numbers({s.arw_dps_rt_hz.x(), s.arw_dps_rt_hz.y(), s.arw_dps_rt_hz.z()}) << "\n";
   for (int a = 0; a < 3; ++a) {
     const auto& t = s.temperature_sums[static_cast<std::size_t>(a)];
-    body << "temperature_model_" << "xyz"[a] << "=" << s.temperature_points[static_cast<std::size_t>(a)] << " "
+    body << "temperature_model_"
+         << "xyz"[a] << "=" << s.temperature_points[static_cast<std::size_t>(a)] << " "
          << numbers({t.normal(0, 0), t.normal(0, 1), t.normal(0, 2), t.normal(1, 1), t.normal(1, 2), t.normal(2, 2),
                      t.rhs(0), t.rhs(1), t.rhs(2), t.yy, t.weight})
          << "\n";
@@ -69,7 +71,9 @@ std::string format_state(const SavedState& s) {
 }
 
 SavedState parse_state(const std::string& text, const std::string& name) {
-  const auto fail = [&](const std::string& why) -> void { throw StateError("state file " + name + ": " + why + "; ignored"); };
+  const auto fail = [&](const std::string& why) -> void {
+    throw StateError("state file " + name + ": " + why + "; ignored");
+  };
   if (text.rfind(kMagic, 0) != 0) fail("not a headingd state file");
   const auto sum_at = text.rfind("checksum=");
   if (sum_at == std::string::npos) fail("truncated (no checksum)");
@@ -90,7 +94,8 @@ SavedState parse_state(const std::string& text, const std::string& name) {
     for (std::string token; values >> token;) {
       char* end = nullptr;
       const double x = std::strtod(token.c_str(), &end);  // also reads "nan"
-      if (end == token.c_str() || *end != '\0') fail("field " + line.substr(0, eq) + ": '" + token + "' is not a number");
+      if (end == token.c_str() || *end != '\0')
+        fail("field " + line.substr(0, eq) + ": '" + token + "' is not a number");
       v.push_back(x);
     }
     fields[line.substr(0, eq)] = v;
@@ -156,7 +161,8 @@ void save_state(const std::string& path, const SavedState& state, int crash_afte
   check(::rename(temp.c_str(), path.c_str()) == 0, path, "rename");
   step(5);
   // The rename is durable only once the directory itself is on disk.
-  const std::string dir = std::filesystem::path(path).parent_path().empty() ? "." : std::filesystem::path(path).parent_path().string();
+  const std::string dir =
+      std::filesystem::path(path).parent_path().empty() ? "." : std::filesystem::path(path).parent_path().string();
   const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   check(dfd >= 0, path, "open directory");
   ok = ::fsync(dfd) == 0;

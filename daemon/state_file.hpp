@@ -18,7 +18,7 @@ namespace headingd::app {
 struct SavedState {
   core::Vec3 bias_dps = core::Vec3::Zero();
   core::Vec3 bias_sigma_dps = core::Vec3::Zero();
-  double temp_c = 0.0;  // NaN when unknown
+  double temp_c = 0.0;                              // NaN when unknown
   core::Vec3 sigma_still_dps = core::Vec3::Zero();  // zero when unknown
   core::Vec3 arw_dps_rt_hz = core::Vec3::Zero();
   std::array<core::TemperatureModel::Sums, 3> temperature_sums{};

@@ -71,9 +71,7 @@ std::string CsvReplaySource::describe() const {
   return path_ + (format_ == Format::Euroc ? " (EuRoC/ASL IMU CSV)" : " (headingd CSV)");
 }
 
-void CsvReplaySource::fail(std::string problem) const {
-  throw InputError(path_, line_number_, std::move(problem));
-}
+void CsvReplaySource::fail(std::string problem) const { throw InputError(path_, line_number_, std::move(problem)); }
 
 bool CsvReplaySource::next_line(std::string_view& line) {
   while (true) {
@@ -182,12 +180,11 @@ void CsvReplaySource::parse_line(std::string_view line, core::Sample& sample) {
   if (format_ == Format::Euroc) {
     const auto ns = parse_int64(fields_.items[time_column_]);
     if (!ns) {
-      fail("field '" + column_names_[time_column_] + "' (column " + std::to_string(time_column_ + 1) +
-           "): '" + shorten(trim(fields_.items[time_column_])) + "' is not an integer nanosecond count");
+      fail("field '" + column_names_[time_column_] + "' (column " + std::to_string(time_column_ + 1) + "): '" +
+           shorten(trim(fields_.items[time_column_])) + "' is not an integer nanosecond count");
     }
     t_s = static_cast<double>(*ns) / 1e9;
-    for (int axis = 0; axis < 3; ++axis)
-      sample.rate_dps[axis] = core::rad_to_deg(number(rate_columns_[axis]));
+    for (int axis = 0; axis < 3; ++axis) sample.rate_dps[axis] = core::rad_to_deg(number(rate_columns_[axis]));
   } else {
     t_s = number(time_column_);
     for (int axis = 0; axis < 3; ++axis) sample.rate_dps[axis] = number(rate_columns_[axis]);

@@ -1,9 +1,10 @@
 #include "drivers/gpiod_data_ready.hpp"
 
+#include <gpiod.h>
+
 #include <cerrno>
 #include <cstring>
 #include <ctime>
-#include <gpiod.h>
 #include <stdexcept>
 #include <thread>
 
@@ -51,14 +52,16 @@ GpiodDataReady::GpiodDataReady(const GpioLineSettings& settings) : settings_(set
     throw std::runtime_error("GPIO chip " + settings_.chip + " has no line " + std::to_string(settings_.offset) + ": " +
                              std::strerror(error_number));
   }
-  const int result = settings_.falling_edge ? ::gpiod_line_request_falling_edge_events(line_, settings_.consumer.c_str())
-                                            : ::gpiod_line_request_rising_edge_events(line_, settings_.consumer.c_str());
+  const int result = settings_.falling_edge
+                         ? ::gpiod_line_request_falling_edge_events(line_, settings_.consumer.c_str())
+                         : ::gpiod_line_request_rising_edge_events(line_, settings_.consumer.c_str());
   if (result < 0) {
     const int error_number = errno;
     ::gpiod_chip_close(chip_);
-    throw std::runtime_error("cannot request GPIO " + settings_.chip + " line " + std::to_string(settings_.offset) +
-                             " for edge events: " + std::strerror(error_number) +
-                             (error_number == EBUSY ? " (another program or driver holds the line: see gpioinfo)" : ""));
+    throw std::runtime_error(
+        "cannot request GPIO " + settings_.chip + " line " + std::to_string(settings_.offset) +
+        " for edge events: " + std::strerror(error_number) +
+        (error_number == EBUSY ? " (another program or driver holds the line: see gpioinfo)" : ""));
   }
 }
 
@@ -68,7 +71,8 @@ GpiodDataReady::~GpiodDataReady() {
 }
 
 std::string GpiodDataReady::describe() const {
-  return settings_.chip + " line " + std::to_string(settings_.offset) + (settings_.falling_edge ? " falling" : " rising");
+  return settings_.chip + " line " + std::to_string(settings_.offset) +
+         (settings_.falling_edge ? " falling" : " rising");
 }
 
 std::optional<std::int64_t> GpiodDataReady::wait(std::chrono::nanoseconds timeout) {

@@ -14,7 +14,7 @@ namespace headingd::drivers {
 struct GpioLineSettings {
   std::string chip = "gpiochip0";  // name (under /dev), path, label or number
   unsigned offset = 0;
-  bool falling_edge = false;       // true when INT2 is configured active-low
+  bool falling_edge = false;  // true when INT2 is configured active-low
   std::string consumer = "headingd";
 };
 

@@ -34,8 +34,7 @@ GyroSimulator::GyroSimulator(Scenario scenario, std::uint64_t seed)
   update_slow_bias(0.0);
   // Start the low-pass in its steady state so the first samples are not artificially quiet.
   const double steady = std::sqrt((1.0 - lpf_alpha_) / (1.0 + lpf_alpha_));
-  for (int axis = 0; axis < 3; ++axis)
-    filtered_noise_dps_[axis] = white_sigma_dps_[axis] * steady * normal_(rng_);
+  for (int axis = 0; axis < 3; ++axis) filtered_noise_dps_[axis] = white_sigma_dps_[axis] * steady * normal_(rng_);
 }
 
 void GyroSimulator::update_slow_bias(double dt_s) {
@@ -65,24 +64,22 @@ void GyroSimulator::step(core::Sample& measured, TruthPoint& truth) {
   static const Leg kStill{};
   const Leg& leg = leg_ < scenario_.legs.size() ? scenario_.legs[leg_] : kStill;
 
-  if (index_ % slow_update_every_ == 0 && index_ > 0)
-    update_slow_bias(dt_s * static_cast<double>(slow_update_every_));
+  if (index_ % slow_update_every_ == 0 && index_ > 0) update_slow_bias(dt_s * static_cast<double>(slow_update_every_));
 
   const double temp_c = noise.ambient_c + noise.warmup_rise_c * (1.0 - std::exp(-t_s / noise.warmup_tau_s)) +
                         noise.swing_c * std::sin(2.0 * std::numbers::pi * t_s / noise.swing_period_s) +
                         leg.temp_offset_c;
-  const core::Vec3 bias_dps = noise.initial_bias_dps +
-                              noise.bias_per_c_dps * (temp_c - noise.ambient_c) + slow_bias_dps_;
+  const core::Vec3 bias_dps =
+      noise.initial_bias_dps + noise.bias_per_c_dps * (temp_c - noise.ambient_c) + slow_bias_dps_;
 
   for (int axis = 0; axis < 3; ++axis) {
-    filtered_noise_dps_[axis] = lpf_alpha_ * filtered_noise_dps_[axis] +
-                                (1.0 - lpf_alpha_) * white_sigma_dps_[axis] * normal_(rng_);
+    filtered_noise_dps_[axis] =
+        lpf_alpha_ * filtered_noise_dps_[axis] + (1.0 - lpf_alpha_) * white_sigma_dps_[axis] * normal_(rng_);
   }
   core::Vec3 value = leg.rate_dps + bias_dps + filtered_noise_dps_;
   if (leg.vibration_dps > 0.0) {
     // A wheeled platform shakes in pitch and roll far more than in yaw.
-    for (int axis = 0; axis < 3; ++axis)
-      value[axis] += leg.vibration_dps * noise.vibration_share[axis] * normal_(rng_);
+    for (int axis = 0; axis < 3; ++axis) value[axis] += leg.vibration_dps * noise.vibration_share[axis] * normal_(rng_);
   }
 
   // The true heading uses the estimator's rectangle rule: rate at t_i over (t_{i-1}, t_i].

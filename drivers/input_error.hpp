@@ -11,7 +11,9 @@ class InputError : public std::runtime_error {
  public:
   InputError(std::string file, std::uint64_t line, std::string problem)
       : std::runtime_error(format(file, line, problem)),
-        file_(std::move(file)), line_(line), problem_(std::move(problem)) {}
+        file_(std::move(file)),
+        line_(line),
+        problem_(std::move(problem)) {}
 
   const std::string& file() const { return file_; }
   std::uint64_t line() const { return line_; }

@@ -17,7 +17,7 @@ namespace {
 
 constexpr std::int64_t kSoftwareResetTimeoutNs = 100'000'000;  // libdriver waits 12 ms; be generous
 constexpr std::int64_t kTurnOnNs = 50'000'000;                 // DS Table 4: Ton 50 ms typical
-constexpr double kTempOffsetC = 25.0;  // DS 7.8 gives -1 LSB/degC and no offset: relative only
+constexpr double kTempOffsetC = 25.0;                          // DS 7.8 gives -1 LSB/degC and no offset: relative only
 constexpr int kMaxDrainPasses = 8;
 
 const RateSetting* find_rate(int hz) {
@@ -52,7 +52,10 @@ std::optional<std::string> validate(const L3gd20hSettings& s) {
 }
 
 L3gd20h::L3gd20h(I2cBus& bus, DataReady& ready, const L3gd20hSettings& settings)
-    : bus_(bus), ready_(ready), settings_(settings), clock_(find_rate(settings.rate_hz) ? find_rate(settings.rate_hz)->typical_hz : 378.8) {
+    : bus_(bus),
+      ready_(ready),
+      settings_(settings),
+      clock_(find_rate(settings.rate_hz) ? find_rate(settings.rate_hz)->typical_hz : 378.8) {
   if (const auto problem = validate(settings_)) throw DriverError("L3GD20H settings: " + *problem);
   sensitivity_1e5_ = find_scale(settings_.full_scale_dps)->sensitivity_1e5_dps;
 }
@@ -115,14 +118,15 @@ void L3gd20h::write_register(std::uint8_t reg, std::uint8_t value) {
 void L3gd20h::start() {
   const std::uint8_t who = read_register(WHO_AM_I);
   if (who != kWhoAmIValue) {
-    throw DriverError(bus_.describe() + " address " + hex(settings_.address) + ": WHO_AM_I is " + hex(who) +
-                      ", not " + hex(kWhoAmIValue) + " (is this an L3GD20H? L3GD20 answers 0xD4)");
+    throw DriverError(bus_.describe() + " address " + hex(settings_.address) + ": WHO_AM_I is " + hex(who) + ", not " +
+                      hex(kWhoAmIValue) + " (is this an L3GD20H? L3GD20 answers 0xD4)");
   }
   // The chip keeps its registers across a host reboot: reset it rather than trust them.
   write_register(LOW_ODR, kLowOdrSoftwareReset);
   const std::int64_t deadline = ready_.now_ns() + kSoftwareResetTimeoutNs;
   while (read_register(LOW_ODR) & kLowOdrSoftwareReset) {
-    if (ready_.now_ns() > deadline) throw DriverError(bus_.describe() + ": software reset did not complete within 100 ms");
+    if (ready_.now_ns() > deadline)
+      throw DriverError(bus_.describe() + ": software reset did not complete within 100 ms");
     ready_.sleep(milliseconds(1));
   }
   if (read_register(WHO_AM_I) != kWhoAmIValue) throw DriverError(bus_.describe() + ": WHO_AM_I changed after reset");
@@ -134,8 +138,10 @@ void L3gd20h::configure() {
   const RateSetting& rate = *find_rate(settings_.rate_hz);
   const ScaleSetting& scale = *find_scale(settings_.full_scale_dps);
   const std::uint8_t mode = settings_.dynamic_stream ? kFifoDynamicStream : kFifoStream;
-  const auto ctrl1_on = static_cast<std::uint8_t>(rate.dr_bits | (settings_.bandwidth << 4) | kCtrl1PowerOn | kCtrl1AllAxes);
-  expected_ctrl_ = {ctrl1_on, 0x00, kCtrl3Int2Fifo, static_cast<std::uint8_t>(kCtrl4Bdu | scale.fs_bits), kCtrl5FifoEnable};
+  const auto ctrl1_on =
+      static_cast<std::uint8_t>(rate.dr_bits | (settings_.bandwidth << 4) | kCtrl1PowerOn | kCtrl1AllAxes);
+  expected_ctrl_ = {ctrl1_on, 0x00, kCtrl3Int2Fifo, static_cast<std::uint8_t>(kCtrl4Bdu | scale.fs_bits),
+                    kCtrl5FifoEnable};
   expected_fifo_ctrl_ = static_cast<std::uint8_t>(mode | settings_.watermark);
   expected_low_odr_ = settings_.int2_active_low ? kLowOdrDrdyActiveLow : 0x00;
 
@@ -186,8 +192,10 @@ void L3gd20h::housekeeping() {
 }
 
 void L3gd20h::warn(const std::string& key, const std::string& text) {
-  if (logger_) logger_(4, key, text);
-  else std::fprintf(stderr, "<4>headingd: %s\n", text.c_str());
+  if (logger_)
+    logger_(4, key, text);
+  else
+    std::fprintf(stderr, "<4>headingd: %s\n", text.c_str());
 }
 
 void L3gd20h::recover(const std::string& why) {
@@ -242,7 +250,7 @@ void L3gd20h::drain(std::optional<std::int64_t> edge_ns) {
     const bool repeat_possible = !settings_.dynamic_stream && stream_drained_;
     const std::size_t to_read = std::min<std::size_t>(count + (repeat_possible ? 1 : 0), kFifoDepth);
     read_registers(OUT_X_L, std::span(bytes).first(6 * to_read));  // one burst; 0x2D wraps to 0x28
-    stream_drained_ = !settings_.dynamic_stream;  // this burst read all FSS announced
+    stream_drained_ = !settings_.dynamic_stream;                   // this burst read all FSS announced
 
     if (overrun) {
       // Samples were overwritten: how many, the clock tells (the newest sample is about now).

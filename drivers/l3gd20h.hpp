@@ -20,16 +20,16 @@
 namespace headingd::drivers {
 
 struct L3gd20hSettings {
-  std::uint8_t address = 0x6B;  // 0x6A with SDO/SA0 low
-  int rate_hz = 400;            // nominal ODR: 100, 200, 400, 800 (real: 94.7 ... 757.6 Hz)
-  int bandwidth = 2;            // CTRL1.BW 0..3; at 400 Hz: 20, 25, 50, 110 Hz LPF2 cut-off
-  int full_scale_dps = 245;     // 245, 500, 2000
-  int watermark = 16;           // FIFO threshold, 1..30: one wake-up per ~42 ms at 378.8 Hz
-  bool dynamic_stream = true;   // DS: for hosts that cannot read within one ODR period
-  bool int2_active_low = false; // LOW_ODR.DRDY_HL
-  int max_retries = 3;          // per transaction, before the chip is set up again
-  double housekeeping_s = 1.0;  // temperature and register read-back period
-  double stuck_s = 2.0;         // identical output this long means the chip is stuck
+  std::uint8_t address = 0x6B;   // 0x6A with SDO/SA0 low
+  int rate_hz = 400;             // nominal ODR: 100, 200, 400, 800 (real: 94.7 ... 757.6 Hz)
+  int bandwidth = 2;             // CTRL1.BW 0..3; at 400 Hz: 20, 25, 50, 110 Hz LPF2 cut-off
+  int full_scale_dps = 245;      // 245, 500, 2000
+  int watermark = 16;            // FIFO threshold, 1..30: one wake-up per ~42 ms at 378.8 Hz
+  bool dynamic_stream = true;    // DS: for hosts that cannot read within one ODR period
+  bool int2_active_low = false;  // LOW_ODR.DRDY_HL
+  int max_retries = 3;           // per transaction, before the chip is set up again
+  double housekeeping_s = 1.0;   // temperature and register read-back period
+  double stuck_s = 2.0;          // identical output this long means the chip is stuck
 };
 
 // Empty when usable, else names the field and the allowed values.
@@ -44,12 +44,12 @@ struct DriverCounters {
   std::uint64_t samples = 0;       // delivered
   std::uint64_t lost_samples = 0;  // overwritten in the FIFO before they were read
   std::uint64_t overruns = 0;
-  std::uint64_t bus_errors = 0;    // failed transactions (each retried)
-  std::uint64_t recoveries = 0;    // chip set up again after a fault
-  std::uint64_t chip_resets = 0;   // the read-back found the chip's registers at their defaults
+  std::uint64_t bus_errors = 0;   // failed transactions (each retried)
+  std::uint64_t recoveries = 0;   // chip set up again after a fault
+  std::uint64_t chip_resets = 0;  // the read-back found the chip's registers at their defaults
   std::uint64_t stuck_events = 0;
   std::uint64_t wakeups = 0;
-  std::uint64_t timeouts = 0;      // no edge in time: polled anyway
+  std::uint64_t timeouts = 0;  // no edge in time: polled anyway
 };
 
 class L3gd20h final : public SampleSource {
@@ -102,12 +102,12 @@ class L3gd20h final : public SampleSource {
   std::int32_t sensitivity_1e5_ = 875;
   std::array<core::Sample, 2 * 32 + 8> pending_{};
   std::size_t pending_begin_ = 0, pending_end_ = 0;
-  std::uint64_t next_index_ = 0;      // index of the next sample the FIFO will hand out
+  std::uint64_t next_index_ = 0;  // index of the next sample the FIFO will hand out
   std::int64_t last_drain_end_ns_ = 0;
   std::int64_t last_housekeeping_ns_ = 0;
   std::int64_t last_stamp_ns_ = 0;
-  bool stream_drained_ = false;       // stream mode: the next burst starts with a repeat
-  bool discard_next_ = false;         // DS: drop the first sample after a FIFO mode switch
+  bool stream_drained_ = false;  // stream mode: the next burst starts with a repeat
+  bool discard_next_ = false;    // DS: drop the first sample after a FIFO mode switch
   double temp_c_ = std::numeric_limits<double>::quiet_NaN();
   std::array<std::int16_t, 3> last_raw_{};
   std::uint64_t identical_run_ = 0;

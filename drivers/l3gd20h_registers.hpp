@@ -63,8 +63,7 @@ struct RateSetting {
   std::uint8_t dr_bits;  // CTRL1 bits 7:6
   double typical_hz;
 };
-inline constexpr RateSetting kRates[] = {
-    {100, 0x00, 94.7}, {200, 0x40, 189.4}, {400, 0x80, 378.8}, {800, 0xC0, 757.6}};
+inline constexpr RateSetting kRates[] = {{100, 0x00, 94.7}, {200, 0x40, 189.4}, {400, 0x80, 378.8}, {800, 0xC0, 757.6}};
 
 // Full scale (CTRL4.FS, bits 5:4) and sensitivity in units of 1e-5 dps per LSB, so that the
 // conversion is an exact integer product divided by 1e5 (DS Table 3: 8.75/17.5/70 mdps/LSB).

@@ -15,8 +15,7 @@ namespace {
 constexpr std::int64_t kTransactionOverheadNs = 50000;  // start, address, stop and host overhead
 }  // namespace
 
-L3gd20hSimulator::L3gd20hSimulator(const L3gd20hSimSettings& settings, const std::string& scenario,
-                                   std::uint64_t seed)
+L3gd20hSimulator::L3gd20hSimulator(const L3gd20hSimSettings& settings, const std::string& scenario, std::uint64_t seed)
     : settings_(settings) {
   auto built = build_scenario(scenario, seed, 0.0);
   if (!built) throw std::invalid_argument("unknown scenario '" + scenario + "'");
@@ -66,7 +65,9 @@ std::int64_t L3gd20hSimulator::period_ns() const {
 
 bool L3gd20hSimulator::powered() const { return (regs_[CTRL1] & kCtrl1PowerOn) && (regs_[CTRL1] & kCtrl1AllAxes); }
 bool L3gd20hSimulator::fifo_enabled() const { return regs_[CTRL5] & kCtrl5FifoEnable; }
-std::uint8_t L3gd20hSimulator::fifo_mode() const { return fifo_enabled() ? regs_[FIFO_CTRL] & kFifoModeMask : kFifoBypass; }
+std::uint8_t L3gd20hSimulator::fifo_mode() const {
+  return fifo_enabled() ? regs_[FIFO_CTRL] & kFifoModeMask : kFifoBypass;
+}
 
 std::optional<std::uint64_t> L3gd20hSimulator::head_index() const {
   if (fifo_.empty()) return std::nullopt;
@@ -93,8 +94,9 @@ std::uint8_t L3gd20hSimulator::fifo_src() const {
 bool L3gd20hSimulator::int2_active() const {
   const std::uint8_t ctrl3 = regs_[CTRL3];
   const std::uint8_t src = fifo_src();
-  return ((ctrl3 & kCtrl3Int2Fifo) && (src & kFifoSrcFth)) || ((ctrl3 & kCtrl3Int2Overrun) && (src & kFifoSrcOverrun)) ||
-         ((ctrl3 & 0x01) && (src & kFifoSrcEmpty)) || ((ctrl3 & 0x08) && !fifo_.empty());
+  return ((ctrl3 & kCtrl3Int2Fifo) && (src & kFifoSrcFth)) ||
+         ((ctrl3 & kCtrl3Int2Overrun) && (src & kFifoSrcOverrun)) || ((ctrl3 & 0x01) && (src & kFifoSrcEmpty)) ||
+         ((ctrl3 & 0x08) && !fifo_.empty());
 }
 
 RawSample L3gd20hSimulator::next_raw() {
@@ -138,8 +140,10 @@ void L3gd20hSimulator::produce() {
     }
     fifo_.push_back(stored);
   } else if (mode == 0x20) {  // FIFO mode: stops when full
-    if (fifo_.size() < kFifoDepth) fifo_.push_back(stored);
-    else ++overwritten_;
+    if (fifo_.size() < kFifoDepth)
+      fifo_.push_back(stored);
+    else
+      ++overwritten_;
   } else {  // bypass: the output registers hold the latest sample
     fifo_.clear();
     fifo_.push_back(stored);
@@ -189,9 +193,12 @@ void L3gd20hSimulator::check_faults() {
 
 std::uint8_t L3gd20hSimulator::read_register(std::uint8_t address) {
   switch (address) {
-    case OUT_TEMP: return static_cast<std::uint8_t>(static_cast<std::int8_t>(std::lround(25.0 - settings_.temp_c)));
-    case FIFO_SRC: return fifo_src();
-    case STATUS: return fifo_.empty() ? 0 : 0x0F;
+    case OUT_TEMP:
+      return static_cast<std::uint8_t>(static_cast<std::int8_t>(std::lround(25.0 - settings_.temp_c)));
+    case FIFO_SRC:
+      return fifo_src();
+    case STATUS:
+      return fifo_.empty() ? 0 : 0x0F;
     case OUT_X_L: {
       const std::uint8_t mode = fifo_mode();
       if (mode == kFifoBypass) {
@@ -221,7 +228,8 @@ std::uint8_t L3gd20hSimulator::read_register(std::uint8_t address) {
       const auto value = static_cast<std::uint16_t>(latch_.raw[static_cast<std::size_t>(axis)]);
       return static_cast<std::uint8_t>((high != big_endian) ? value >> 8 : value & 0xFF);
     }
-    default: return regs_[address];
+    default:
+      return regs_[address];
   }
 }
 
@@ -268,7 +276,9 @@ void L3gd20hSimulator::write_read(std::uint8_t address, std::span<const std::uin
     // Bytes are clocked out one after another while the chip keeps sampling.
     advance_to(clock_ns_ + byte_ns);
     byte = read_register(reg);
-    if (increment) reg = (reg == OUT_Z_H && fifo_enabled()) ? static_cast<std::uint8_t>(OUT_X_L) : static_cast<std::uint8_t>(reg + 1);
+    if (increment)
+      reg =
+          (reg == OUT_Z_H && fifo_enabled()) ? static_cast<std::uint8_t>(OUT_X_L) : static_cast<std::uint8_t>(reg + 1);
   }
 }
 

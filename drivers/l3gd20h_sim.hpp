@@ -23,12 +23,12 @@ using RawSample = std::array<std::int16_t, 3>;
 
 struct L3gd20hSimSettings {
   std::uint8_t address = 0x6B;
-  double rate_error = 0.0;             // actual ODR = typical ODR * (1 + rate_error); DS: +-15 %
-  double bus_hz = 400000.0;            // I2C clock, for the time a transaction takes
-  std::int64_t irq_latency_ns = 40000; // edge time stamp to the waiting thread waking
+  double rate_error = 0.0;               // actual ODR = typical ODR * (1 + rate_error); DS: +-15 %
+  double bus_hz = 400000.0;              // I2C clock, for the time a transaction takes
+  std::int64_t irq_latency_ns = 40000;   // edge time stamp to the waiting thread waking
   std::int64_t reset_time_ns = 5000000;  // SW_RES self-clears after this
-  double temp_c = 30.0;                // die temperature when no scenario drives it
-  std::uint8_t who_am_i = 0xD7;        // another part answers differently (L3GD20: 0xD4)
+  double temp_c = 30.0;                  // die temperature when no scenario drives it
+  std::uint8_t who_am_i = 0xD7;          // another part answers differently (L3GD20: 0xD4)
 };
 
 class L3gd20hSimulator final : public I2cBus, public DataReady {
@@ -52,7 +52,7 @@ class L3gd20hSimulator final : public I2cBus, public DataReady {
   void inject_nack(int transactions) { nack_ = transactions; }
   void inject_timeout(int transactions) { timeout_ = transactions; }
   void inject_stuck(std::int64_t duration_ns) { stuck_until_ns_ = clock_ns_ + duration_ns; }
-  void inject_reset();                                    // brown-out: registers back to defaults
+  void inject_reset();                                                      // brown-out: registers back to defaults
   void inject_stall(std::int64_t duration_ns) { stall_ns_ = duration_ns; }  // the host is late once
   // From simulated time t_ns on, the chip stops answering for good (a dead sensor).
   void inject_dead_after(std::int64_t t_ns) { dead_after_ns_ = t_ns; }
@@ -101,7 +101,7 @@ class L3gd20hSimulator final : public I2cBus, public DataReady {
   TruthPoint truth_;
   std::array<std::uint8_t, 256> regs_{};
   std::deque<Stored> fifo_;
-  Stored latch_{};            // the sample being read out of OUT_X_L..OUT_Z_H
+  Stored latch_{};  // the sample being read out of OUT_X_L..OUT_Z_H
   Stored last_read_{};
   bool repeat_last_ = false;  // stream mode: the first read after a drain repeats the last sample
   bool int2_level_ = false;

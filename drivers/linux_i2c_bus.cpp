@@ -1,14 +1,15 @@
 #include "drivers/linux_i2c_bus.hpp"
 
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 #include <fcntl.h>
 #include <linux/i2c-dev.h>
 #include <linux/i2c.h>
-#include <stdexcept>
 #include <sys/ioctl.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
 
 namespace headingd::drivers {
 namespace {
@@ -17,22 +18,29 @@ I2cError::Kind kind_of(int error_number) {
   switch (error_number) {
     case ENXIO:
     case EREMOTEIO:
-    case ENODEV: return I2cError::Kind::NoAck;
+    case ENODEV:
+      return I2cError::Kind::NoAck;
     case ETIMEDOUT:
     case EAGAIN:
     case EIO:
-    case EBUSY: return I2cError::Kind::BusTrouble;
-    default: return I2cError::Kind::Other;
+    case EBUSY:
+      return I2cError::Kind::BusTrouble;
+    default:
+      return I2cError::Kind::Other;
   }
 }
 
 const char* hint_of(int error_number) {
   switch (error_number) {
     case ENXIO:
-    case EREMOTEIO: return " (the device did not acknowledge: wiring, address, power?)";
-    case ETIMEDOUT: return " (the adapter timed out: bus stuck or clock stretched?)";
-    case EOPNOTSUPP: return " (the adapter cannot do combined I2C transfers)";
-    default: return "";
+    case EREMOTEIO:
+      return " (the device did not acknowledge: wiring, address, power?)";
+    case ETIMEDOUT:
+      return " (the adapter timed out: bus stuck or clock stretched?)";
+    case EOPNOTSUPP:
+      return " (the adapter cannot do combined I2C transfers)";
+    default:
+      return "";
   }
 }
 
@@ -62,8 +70,9 @@ LinuxI2cBus::LinuxI2cBus(std::string path) : path_(std::move(path)) {
   }
   if ((functions & I2C_FUNC_I2C) == 0) {
     ::close(fd_);
-    throw std::runtime_error(path_ + ": the adapter cannot do plain I2C transfers (I2C_FUNC_I2C), which the "
-                                     "L3GD20H's burst reads need");
+    throw std::runtime_error(path_ +
+                             ": the adapter cannot do plain I2C transfers (I2C_FUNC_I2C), which the "
+                             "L3GD20H's burst reads need");
   }
 }
 

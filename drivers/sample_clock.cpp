@@ -5,7 +5,7 @@
 
 namespace headingd::drivers {
 namespace {
-constexpr std::uint64_t kMinBaselineSamples = 64;      // before this, keep the nominal period
+constexpr std::uint64_t kMinBaselineSamples = 64;         // before this, keep the nominal period
 constexpr std::int64_t kRebaseAfterNs = 120'000'000'000;  // track slow drift of the chip's oscillator
 }  // namespace
 
@@ -51,7 +51,8 @@ void SampleClock::anchor(std::uint64_t index, std::int64_t t_ns, bool provisiona
 std::int64_t SampleClock::stamp(std::uint64_t index) {
   const double offset = static_cast<double>(static_cast<std::int64_t>(index) - static_cast<std::int64_t>(last_index_));
   std::int64_t t = last_ns_ + std::llround(offset * period_ns_);
-  if (stamped_ && t <= previous_stamp_ns_) t = previous_stamp_ns_ + std::max<std::int64_t>(1, std::llround(period_ns_ / 2));
+  if (stamped_ && t <= previous_stamp_ns_)
+    t = previous_stamp_ns_ + std::max<std::int64_t>(1, std::llround(period_ns_ / 2));
   previous_stamp_ns_ = t;
   stamped_ = true;
   return t;

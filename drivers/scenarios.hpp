@@ -13,21 +13,21 @@
 namespace headingd::drivers {
 
 struct NoiseModel {
-  double rate_hz = 400.0;                 // output data rate the file is written at
+  double rate_hz = 400.0;  // output data rate the file is written at
   // Angle random walk per axis, dps/sqrt(Hz): the paper's Allan analysis (z 0.011, x/y ~0.1).
   core::Vec3 arw_dps_rt_hz{0.1, 0.1, 0.011};
-  double lpf_hz = 50.0;                   // chip low-pass on the noise (bandwidth setting)
+  double lpf_hz = 50.0;  // chip low-pass on the noise (bandwidth setting)
   // Bias instability, dps (paper: 3.58 deg/h on z), shaped as a sum of Gauss-Markov terms.
   core::Vec3 bias_instability_dps{0.003, 0.003, 0.001};
   core::Vec3 initial_bias_dps{0.35, -0.21, -0.455};  // paper: z mean -52 LSB = -0.455 dps
   core::Vec3 bias_per_c_dps{0.004, -0.003, 0.0012};  // zero-rate change with temperature
   double ambient_c = 22.0;
-  double warmup_rise_c = 15.0;            // self-heating after power-on
-  double warmup_tau_s = 3600.0;           // paper: about 4 h to settle (~4 time constants)
-  double swing_c = 0.0;                   // amplitude of a slow temperature swing, degC
-  double swing_period_s = 1800.0;         // its period, s
+  double warmup_rise_c = 15.0;                // self-heating after power-on
+  double warmup_tau_s = 3600.0;               // paper: about 4 h to settle (~4 time constants)
+  double swing_c = 0.0;                       // amplitude of a slow temperature swing, degC
+  double swing_period_s = 1800.0;             // its period, s
   core::Vec3 vibration_share{1.0, 1.0, 0.3};  // of a leg's vibration, per axis
-  double quantum_dps = 0.00875;           // 8.75 mdps/LSB at +-245 dps
+  double quantum_dps = 0.00875;               // 8.75 mdps/LSB at +-245 dps
   double full_scale_dps = 245.0;
 };
 

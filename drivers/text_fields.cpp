@@ -37,8 +37,7 @@ std::optional<double> parse_double(std::string_view field) {
   if (field.front() == '+') field.remove_prefix(1);
   double value = 0.0;
   const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
-  if (error != std::errc{} || end != field.data() + field.size() || !std::isfinite(value))
-    return std::nullopt;
+  if (error != std::errc{} || end != field.data() + field.size() || !std::isfinite(value)) return std::nullopt;
   return value;
 }
 

@@ -9,7 +9,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t size) {
   headingd::app::CommandIn command;
   double now_s = 0.0;
-  if (size < sizeof command.stamp_sec + sizeof command.stamp_nanosec + sizeof command.kind + 3 * sizeof(double)) return 0;
+  if (size < sizeof command.stamp_sec + sizeof command.stamp_nanosec + sizeof command.kind + 3 * sizeof(double))
+    return 0;
   std::size_t at = 0;
   const auto take = [&](void* out, std::size_t n) {
     std::memcpy(out, data + at, n);
@@ -24,7 +25,8 @@ extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t siz
   std::string why;
   const auto valid = headingd::app::validate_command(command, now_s, {}, why);
   // What passes must be usable: finite numbers only.
-  if (valid && (!std::isfinite(valid->heading_deg) || !std::isfinite(valid->variance_deg2) || valid->variance_deg2 < 0)) __builtin_trap();
+  if (valid && (!std::isfinite(valid->heading_deg) || !std::isfinite(valid->variance_deg2) || valid->variance_deg2 < 0))
+    __builtin_trap();
   if (!valid && why.empty()) __builtin_trap();
   return 0;
 }

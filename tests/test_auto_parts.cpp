@@ -33,7 +33,7 @@ TEST(AxisFilter, VarianceGrowsWithWhiteNoiseAndBiasUncertainty) {
   AxisFilter uncertain_bias;
   uncertain_bias.reset(0.0, 0.001 * 0.001);
   for (int i = 0; i < 1000; ++i) uncertain_bias.propagate(0.0, 0.01, 0.0, 0.0);  // 10 s
-  EXPECT_NEAR(std::sqrt(uncertain_bias.angle_variance()), 0.01, 1e-9);  // sigma_b * T
+  EXPECT_NEAR(std::sqrt(uncertain_bias.angle_variance()), 0.01, 1e-9);           // sigma_b * T
 }
 
 TEST(AxisFilter, AngleFixPullsAngle) {

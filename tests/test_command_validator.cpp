@@ -43,14 +43,9 @@ TEST(CommandValidator, RefusesMalformedOutOfRangeAndStale) {
     CommandIn command;
     const char* reason;
   } cases[] = {
-      {at(kNow, 0, nan), "heading_rad"},
-      {at(kNow, 0, inf), "heading_rad"},
-      {at(kNow, 0, 1e9), "heading_rad"},
-      {at(kNow, 0, 1.0, -1.0), "variance"},
-      {at(kNow, 0, 1.0, nan), "variance"},
-      {at(kNow - 60, 0, 1.0), "stale"},
-      {at(kNow + 30, 0, 1.0), "future"},
-      {at(kNow, 7), "unknown command kind"},
+      {at(kNow, 0, nan), "heading_rad"},    {at(kNow, 0, inf), "heading_rad"},     {at(kNow, 0, 1e9), "heading_rad"},
+      {at(kNow, 0, 1.0, -1.0), "variance"}, {at(kNow, 0, 1.0, nan), "variance"},   {at(kNow - 60, 0, 1.0), "stale"},
+      {at(kNow + 30, 0, 1.0), "future"},    {at(kNow, 7), "unknown command kind"},
   };
   for (const auto& c : cases) {
     std::string why;

@@ -33,7 +33,7 @@ n_means = 20
 sigma_still_dps = [0.9, 0.8, 0.1]
 still_at_start = false
 )",
-                                    "test.toml");
+                                   "test.toml");
   EXPECT_EQ(config.estimator.method, Method::B);
   const auto& s = config.estimator.segments;
   EXPECT_DOUBLE_EQ(s.segment_s, 2.5);
@@ -64,7 +64,7 @@ min_span_c = 3
 quadratic_span_c = 20
 min_points = 5
 )",
-                                    "test.toml");
+                                   "test.toml");
   const auto& a = config.estimator.automatic;
   EXPECT_EQ(config.estimator.method, Method::Auto);
   EXPECT_DOUBLE_EQ(a.min_segment_s, 0.5);
@@ -92,8 +92,7 @@ TEST(Config, EmptyFileKeepsDefaults) {
 TEST(Config, WrongTypeNamesKeyLineAndValue) {
   const auto message = error_of("[estimator]\n\nk_range = \"seven\"\n");
   EXPECT_NE(message.find("test.toml:3:"), std::string::npos) << message;
-  EXPECT_NE(message.find("'estimator.k_range' must be a number, found a string 'seven'"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find("'estimator.k_range' must be a number, found a string 'seven'"), std::string::npos) << message;
 }
 
 TEST(Config, OutOfRangeNamesAllowedRange) {
@@ -101,7 +100,8 @@ TEST(Config, OutOfRangeNamesAllowedRange) {
   EXPECT_NE(message.find("test.toml:2:"), std::string::npos) << message;
   EXPECT_NE(message.find("'estimator.segment_s' is -3, allowed (0, 600]"), std::string::npos) << message;
   EXPECT_NE(error_of("[estimator]\nn_means = 1000\n").find("allowed [1, 64]"), std::string::npos);
-  EXPECT_NE(error_of("[estimator]\nmethod = \"z\"\n").find("allowed \"auto\", \"a\", \"b\" or \"c\""), std::string::npos);
+  EXPECT_NE(error_of("[estimator]\nmethod = \"z\"\n").find("allowed \"auto\", \"a\", \"b\" or \"c\""),
+            std::string::npos);
 }
 
 TEST(Config, UnknownKeyAndSectionRejected) {

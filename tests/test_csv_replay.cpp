@@ -110,8 +110,7 @@ TEST(CsvReplayErrors, NonNumericFieldNamesColumn) {
   TempDir dir;
   const auto path = dir.file("bad.csv", "time_s,gx_dps,gy_dps,gz_dps\n0,1,2,3\n0.1,1,abc,3\n");
   const auto message = error_of(path);
-  EXPECT_NE(message.find(":3: field 'gy_dps' (column 3): 'abc' is not a finite number"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find(":3: field 'gy_dps' (column 3): 'abc' is not a finite number"), std::string::npos) << message;
   EXPECT_NE(error_of(dir.file("nan.csv", "time_s,gx_dps,gy_dps,gz_dps\n0,nan,2,3\n")).find("gx_dps"),
             std::string::npos);
 }
@@ -148,6 +147,4 @@ TEST(CsvReplayErrors, EurocBadTimestamp) {
       << message;
 }
 
-TEST(CsvReplayErrors, MissingFileIsAnOpenError) {
-  EXPECT_THROW(CsvReplaySource("/nonexistent/imu.csv"), OpenError);
-}
+TEST(CsvReplayErrors, MissingFileIsAnOpenError) { EXPECT_THROW(CsvReplaySource("/nonexistent/imu.csv"), OpenError); }

@@ -11,9 +11,7 @@ using namespace headingd::core;
 
 namespace {
 
-double angle_between(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
-  return a.angularDistance(b);
-}
+double angle_between(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) { return a.angularDistance(b); }
 
 void rotate(AttitudeIntegrator& integrator, const Vec3& rate_dps, double seconds, int steps) {
   for (int i = 0; i < steps; ++i) integrator.add(rate_dps, seconds / steps);

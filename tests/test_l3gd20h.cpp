@@ -43,16 +43,16 @@ TEST(L3gd20h, InitSequenceWritesExactlyTheDocumentedRegisters) {
   driver.start();
   using namespace l3gd20h;
   const std::vector<std::pair<int, int>> expected = {
-      {LOW_ODR, 0x04},    // software reset
-      {CTRL1, 0x07},      // power-down while configuring
-      {CTRL2, 0x00},      {CTRL3, 0x04},  // watermark on INT2
-      {CTRL4, 0x80},      // BDU, little-endian, +-245 dps
-      {LOW_ODR, 0x00},    // INT2 active high, Low_ODR off
-      {FIFO_CTRL, 0x00},  // bypass clears the FIFO
-      {CTRL5, 0x40},      // FIFO enable
-      {FIFO_CTRL, 0xD0},  // dynamic stream, watermark 16
-      {CTRL1, 0xAF},      // 400 Hz, BW 2, power on, XYZ
-      {FIFO_CTRL, 0x00},  {FIFO_CTRL, 0xD0},  // restart the FIFO after Ton
+      {LOW_ODR, 0x04},                       // software reset
+      {CTRL1, 0x07},                         // power-down while configuring
+      {CTRL2, 0x00},     {CTRL3, 0x04},      // watermark on INT2
+      {CTRL4, 0x80},                         // BDU, little-endian, +-245 dps
+      {LOW_ODR, 0x00},                       // INT2 active high, Low_ODR off
+      {FIFO_CTRL, 0x00},                     // bypass clears the FIFO
+      {CTRL5, 0x40},                         // FIFO enable
+      {FIFO_CTRL, 0xD0},                     // dynamic stream, watermark 16
+      {CTRL1, 0xAF},                         // 400 Hz, BW 2, power on, XYZ
+      {FIFO_CTRL, 0x00}, {FIFO_CTRL, 0xD0},  // restart the FIFO after Ton
   };
   ASSERT_EQ(sim.writes().size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {
@@ -78,7 +78,8 @@ TEST(L3gd20h, WrongChipIsRefusedByName) {
 TEST(L3gd20h, DecodesSignScaleAndOrderForEachFullScale) {
   for (const auto& [fs, sensitivity] : {std::pair{245, 0.00875}, {500, 0.0175}, {2000, 0.070}}) {
     L3gd20hSimulator sim({}, [](std::uint64_t i) {
-      return RawSample{static_cast<std::int16_t>(1000 + (i % 2)), -2000, static_cast<std::int16_t>(i % 2 ? 32767 : -32768)};
+      return RawSample{static_cast<std::int16_t>(1000 + (i % 2)), -2000,
+                       static_cast<std::int16_t>(i % 2 ? 32767 : -32768)};
     });
     L3gd20hSettings settings;
     settings.full_scale_dps = fs;
@@ -88,7 +89,8 @@ TEST(L3gd20h, DecodesSignScaleAndOrderForEachFullScale) {
       const double x_lsb_value = std::round(s.rate_dps.x() / sensitivity);
       ASSERT_TRUE(x_lsb_value == 1000 || x_lsb_value == 1001) << fs;
       ASSERT_NEAR(s.rate_dps.y(), -2000 * sensitivity, 1e-9) << fs;
-      ASSERT_TRUE(std::abs(s.rate_dps.z() - 32767 * sensitivity) < 1e-9 || std::abs(s.rate_dps.z() + 32768 * sensitivity) < 1e-9);
+      ASSERT_TRUE(std::abs(s.rate_dps.z() - 32767 * sensitivity) < 1e-9 ||
+                  std::abs(s.rate_dps.z() + 32768 * sensitivity) < 1e-9);
     }
     EXPECT_EQ(sim.reg(l3gd20h::CTRL4) & 0x30, fs == 245 ? 0x00 : fs == 500 ? 0x10 : 0x20);
   }

@@ -1,8 +1,7 @@
 // The Linux I2C and GPIO back ends open real device paths. This machine has neither
 // /dev/i2c-* nor /dev/gpiochip*, which is exactly what the error paths need.
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -57,7 +56,8 @@ std::string error_as_nobody(const std::function<void()>& f) {
 
 TEST(LinuxI2cBus, MissingAdapterNamesPathAndFix) {
   const auto message = error_of([] { LinuxI2cBus bus("/dev/i2c-7"); });
-  EXPECT_NE(message.find("cannot open I2C adapter /dev/i2c-7: No such file or directory"), std::string::npos) << message;
+  EXPECT_NE(message.find("cannot open I2C adapter /dev/i2c-7: No such file or directory"), std::string::npos)
+      << message;
   EXPECT_NE(message.find("i2c-dev"), std::string::npos) << message;
 }
 

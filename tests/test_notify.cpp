@@ -2,7 +2,6 @@
 // READY after the first sample, WATCHDOG pings while samples flow and none once the
 // (simulated) sensor dies, STOPPING on SIGTERM, exit 0.
 #include <gtest/gtest.h>
-
 #include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>

@@ -32,7 +32,8 @@ core::HeadingMetrics run(core::Method method, std::uint64_t seed) {
 TEST(PaperAccuracy, AutoBeatsC) {
   const auto c = run(core::Method::C, 4);
   const auto automatic = run(core::Method::Auto, 4);
-  EXPECT_LT(automatic.max_abs_deg(), 0.5 * c.max_abs_deg()) << "auto " << automatic.max_abs_deg() << " C " << c.max_abs_deg();
+  EXPECT_LT(automatic.max_abs_deg(), 0.5 * c.max_abs_deg())
+      << "auto " << automatic.max_abs_deg() << " C " << c.max_abs_deg();
   EXPECT_LT(automatic.max_abs_deg(), 1.5);
 }
 

@@ -8,17 +8,16 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <random>
-#include <string>
-#include <thread>
-#include <vector>
-
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include <fstream>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "core/estimator.hpp"
 #include "daemon/dds_node.hpp"
@@ -44,7 +43,8 @@ void churn(const app::DdsSettings& settings, const std::atomic<bool>& done, std:
     auto* participant = app::create_participant(settings, "soak-subscriber");
     TypeSupport type(new headingd::msg::OrientationPubSubType());
     type.register_type(participant);
-    auto* topic = participant->create_topic(app::topic_name(settings, "orientation"), type.get_type_name(), TOPIC_QOS_DEFAULT);
+    auto* topic =
+        participant->create_topic(app::topic_name(settings, "orientation"), type.get_type_name(), TOPIC_QOS_DEFAULT);
     auto* sub = participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
     DataReaderQos qos = DATAREADER_QOS_DEFAULT;
     qos.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
@@ -65,10 +65,14 @@ int main(int argc, char** argv) {
   settings.domain_id = 47;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--hours" && i + 1 < argc) hours = std::atof(argv[++i]);
-    else if (a == "--seed" && i + 1 < argc) seed = std::strtoull(argv[++i], nullptr, 10);
-    else if (a == "--no-dds") dds = false;
-    else if (a == "--profile" && i + 1 < argc) settings.profiles_xml = argv[++i];
+    if (a == "--hours" && i + 1 < argc)
+      hours = std::atof(argv[++i]);
+    else if (a == "--seed" && i + 1 < argc)
+      seed = std::strtoull(argv[++i], nullptr, 10);
+    else if (a == "--no-dds")
+      dds = false;
+    else if (a == "--profile" && i + 1 < argc)
+      settings.profiles_xml = argv[++i];
     else {
       std::fprintf(stderr, "usage: soak [--hours H] [--seed N] [--no-dds] [--profile FILE.xml]\n");
       return 64;
@@ -161,16 +165,20 @@ int main(int argc, char** argv) {
   const auto& c = driver.counters();
   std::printf("soak: %.1f simulated hours, %llu samples, %d subscriber join/leave cycles\n", hours,
               static_cast<unsigned long long>(c.samples), churn_cycles.load());
-  std::printf("  injected: %llu NACKed and %llu timed-out transactions, %llu chip resets, %llu late reads, %llu stuck periods\n",
-              static_cast<unsigned long long>(injected.nack_transactions),
-              static_cast<unsigned long long>(injected.timeout_transactions), static_cast<unsigned long long>(injected.resets),
-              static_cast<unsigned long long>(injected.stalls), static_cast<unsigned long long>(injected.stucks));
-  std::printf("  counted:  %llu bus errors, %llu chip resets, %llu overruns (%llu samples lost), %llu stuck events, %llu recoveries\n",
-              static_cast<unsigned long long>(c.bus_errors), static_cast<unsigned long long>(c.chip_resets),
-              static_cast<unsigned long long>(c.overruns), static_cast<unsigned long long>(c.lost_samples),
-              static_cast<unsigned long long>(c.stuck_events), static_cast<unsigned long long>(c.recoveries));
-  std::printf("  RSS after warm-up %ld kB, max %ld kB, end %ld kB (growth %ld kB)\n", rss_after_warmup, rss_max, rss_end,
-              rss_max - rss_after_warmup);
+  std::printf(
+      "  injected: %llu NACKed and %llu timed-out transactions, %llu chip resets, %llu late reads, %llu stuck "
+      "periods\n",
+      static_cast<unsigned long long>(injected.nack_transactions),
+      static_cast<unsigned long long>(injected.timeout_transactions), static_cast<unsigned long long>(injected.resets),
+      static_cast<unsigned long long>(injected.stalls), static_cast<unsigned long long>(injected.stucks));
+  std::printf(
+      "  counted:  %llu bus errors, %llu chip resets, %llu overruns (%llu samples lost), %llu stuck events, %llu "
+      "recoveries\n",
+      static_cast<unsigned long long>(c.bus_errors), static_cast<unsigned long long>(c.chip_resets),
+      static_cast<unsigned long long>(c.overruns), static_cast<unsigned long long>(c.lost_samples),
+      static_cast<unsigned long long>(c.stuck_events), static_cast<unsigned long long>(c.recoveries));
+  std::printf("  RSS after warm-up %ld kB, max %ld kB, end %ld kB (growth %ld kB)\n", rss_after_warmup, rss_max,
+              rss_end, rss_max - rss_after_warmup);
   std::printf("  heading: largest step between samples %.4f deg, largest |heading| %.3f deg\n", max_step, max_abs);
 
   bool ok = true;
