@@ -128,8 +128,8 @@ int main(int argc, char** argv) {
       seeds = split(argv[i + 1]);
     else if (flag == "--scenarios")
       scenarios = split(argv[i + 1]);
-    else if (flag == "--hours")
-      hours = std::atof(argv[i + 1]);
+    else if (flag == "--hours" && std::strtod(argv[i + 1], nullptr) > 0.0)
+      hours = std::strtod(argv[i + 1], nullptr);
     else {
       std::fprintf(stderr, "usage: auto_report [--seeds 1,2,3] [--scenarios a,b] [--hours H]\n");
       return 64;

@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   samples.resize(sim.scenario().total_samples);
   for (auto& sample : samples) sim.step(sample, truth);
   std::vector<double> core_s;
+  core_s.reserve(static_cast<std::size_t>(repeats));
   double sink = 0.0;
   for (int r = 0; r < repeats; ++r) {
     core_s.push_back(seconds_of([&] {

@@ -51,7 +51,7 @@ struct DdsNode::Impl : public DataReaderListener {
   std::vector<ValidCommand> commands;
   std::uint64_t accepted = 0, rejected = 0;
 
-  Topic* topic(const std::string& name, TypeSupport type) {
+  Topic* topic(const std::string& name, const TypeSupport& type) {
     type.register_type(participant);
     auto* t = participant->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);
     if (t == nullptr) throw std::runtime_error("cannot create DDS topic " + name);
@@ -225,7 +225,7 @@ void DdsNode::publish(const core::Estimate& e, const core::Estimator& estimator,
       imu.angular_velocity_covariance() = {0, 0, 0, 0, 0, 0, 0, 0, 0};
       for (int a = 0; a < 3; ++a) {
         const double s = std::isfinite(bias_sigma[a]) ? bias_sigma[a] : 0.0;
-        imu.angular_velocity_covariance()[static_cast<std::size_t>(4 * a)] = s * s;
+        imu.angular_velocity_covariance()[4 * static_cast<std::size_t>(a)] = s * s;
       }
       imu.linear_acceleration_covariance() = {-1, 0, 0, 0, 0, 0, 0, 0, 0};  // not provided
       d.imu->write(&imu);

@@ -164,7 +164,7 @@ int run_echo(const EchoOptions& options) {
   try {
     participant = create_participant(settings, "headingd-echo");
     Subscriber* subscriber = participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
-    auto add = [&](const std::string& name, TypeSupport type, DataReaderListener* listener, bool latched,
+    auto add = [&](const std::string& name, const TypeSupport& type, DataReaderListener* listener, bool latched,
                    bool reliable) {
       type.register_type(participant);
       Topic* topic = participant->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);

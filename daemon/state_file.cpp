@@ -3,7 +3,9 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -78,8 +80,11 @@ SavedState parse_state(const std::string& text, const std::string& name) {
   const auto sum_at = text.rfind("checksum=");
   if (sum_at == std::string::npos) fail("truncated (no checksum)");
   const std::string body = text.substr(0, sum_at);
-  unsigned long long stored = 0;
-  if (std::sscanf(text.c_str() + sum_at, "checksum=%16llx", &stored) != 1 || stored != checksum(body))
+  std::uint64_t stored = 0;
+  const char* digits = text.data() + sum_at + std::strlen("checksum=");
+  const char* digits_end = std::min(digits + 16, text.data() + text.size());
+  const auto parsed = std::from_chars(digits, digits_end, stored, 16);
+  if (parsed.ec != std::errc{} || parsed.ptr == digits || stored != checksum(body))
     fail("checksum mismatch (corrupt or truncated)");
   std::map<std::string, std::vector<double>> fields;
   std::istringstream in(body);

@@ -234,7 +234,7 @@ std::size_t L3gd20h::read(std::span<core::Sample> out) {
 
 void L3gd20h::drain(std::optional<std::int64_t> edge_ns) {
   const std::int64_t wake_ns = ready_.now_ns();
-  std::array<std::uint8_t, 6 * (kFifoDepth + 1)> bytes{};
+  std::array<std::uint8_t, std::size_t{6} * (kFifoDepth + 1)> bytes{};
   for (int pass = 0; pass < kMaxDrainPasses; ++pass) {
     const std::uint8_t src = read_register(FIFO_SRC);
     const std::int64_t src_ns = ready_.now_ns();

@@ -1,5 +1,7 @@
 #include "drivers/scenarios.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -48,7 +50,8 @@ void build_paper12h(Scenario& s) {
   const double duration_s = static_cast<double>(s.total_samples) / s.noise.rate_hz;
   legs.still(60.0);
   double sign = 1.0;
-  for (double start_s = 60.0; start_s + kPeriodS <= duration_s + 1e-9; start_s += kPeriodS) {
+  for (int period = 0; 60.0 + kPeriodS * (period + 1) <= duration_s + 1e-9; ++period) {
+    const double start_s = 60.0 + kPeriodS * period;
     legs.turn(2.0, sign * 5.0, 0.05);                        // 10 deg fast
     legs.turn(4.0, sign * 0.3, 0.02);                        // 1.2 deg slowing down
     legs.turn((turn_deg - 11.2) / 0.05, sign * 0.05, 0.02);  // the rest creeping
@@ -141,20 +144,13 @@ std::vector<std::pair<std::string, std::string>> scenario_list() {
 std::optional<Scenario> build_scenario(std::string_view name, std::uint64_t seed, double hours) {
   Scenario s;
   s.name = std::string(name);
-  double default_hours = 0.0;
-  if (name == "paper12h") {
-    default_hours = 12.0;
-  } else if (name == "still") {
-    default_hours = 4.0;
-  } else if (name == "agv") {
-    default_hours = 1.0;
-  } else if (name == "creep") {
-    default_hours = 2.0;
-  } else if (name == "thermal") {
-    default_hours = 4.0;
-  } else {
-    return std::nullopt;
-  }
+  // Each scenario's length when --hours is not given.
+  constexpr std::array<std::pair<std::string_view, double>, 5> kDefaultHours{
+      {{"paper12h", 12.0}, {"still", 4.0}, {"agv", 1.0}, {"creep", 2.0}, {"thermal", 4.0}}};
+  const auto entry_for_name =
+      std::find_if(kDefaultHours.begin(), kDefaultHours.end(), [&](const auto& entry) { return entry.first == name; });
+  if (entry_for_name == kDefaultHours.end()) return std::nullopt;
+  const double default_hours = entry_for_name->second;
   for (const auto& [known, description] : scenario_list())
     if (known == name) s.description = description;
   const double use_hours = hours > 0.0 ? hours : default_hours;

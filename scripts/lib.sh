@@ -10,7 +10,8 @@ HEADINGD_PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev
   gnuplot-nox
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-format clang-tidy
+  openssl systemd
 )
 
 # Installs the named Debian packages that are not installed yet; does nothing when all are.

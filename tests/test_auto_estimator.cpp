@@ -14,10 +14,10 @@ constexpr double kRateHz = 400.0;
 
 class Rig {
  public:
-  explicit Rig(EstimatorSettings settings = {}) : estimator_(settings) {}
+  explicit Rig(const EstimatorSettings& settings = {}) : estimator_(settings) {}
   // `seconds` of signal with true z rate `rate_dps` on top of bias and white noise.
   void run(double seconds, double rate_dps, double vibration_dps = 0.0) {
-    const auto n = static_cast<int>(seconds * kRateHz + 0.5);
+    const auto n = static_cast<int>(std::lround(seconds * kRateHz));
     for (int i = 0; i < n; ++i) {
       Sample s;
       s.t_s = static_cast<double>(index_++) / kRateHz;

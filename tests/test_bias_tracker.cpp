@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "core/bias_tracker.hpp"
@@ -16,7 +17,7 @@ class Signal {
  public:
   explicit Signal(BiasTracker& tracker) : tracker_(tracker) {}
   void run(double seconds, double bias_z, double true_rate_z) {
-    const auto n = static_cast<int>(seconds * kRateHz + 0.5);
+    const auto n = static_cast<int>(std::lround(seconds * kRateHz));
     for (int i = 0; i < n; ++i) {
       Sample s;
       s.t_s = static_cast<double>(index_++) / kRateHz;

@@ -5,15 +5,18 @@
 // continuous, and every injected fault is counted.
 // Usage: soak [--hours H] [--seed N] [--no-dds] [--profile FILE.xml]
 #include <atomic>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
@@ -32,7 +35,7 @@ namespace {
 long rss_kb() {
   std::ifstream status("/proc/self/status");
   for (std::string line; std::getline(status, line);)
-    if (line.rfind("VmRSS:", 0) == 0) return std::atol(line.c_str() + 6);
+    if (line.rfind("VmRSS:", 0) == 0) return std::strtol(line.c_str() + 6, nullptr, 10);
   return -1;
 }
 
@@ -57,6 +60,22 @@ void churn(const app::DdsSettings& settings, const std::atomic<bool>& done, std:
 
 }  // namespace
 
+// A whole positive number from the command line, or nothing.
+std::optional<double> positive_number(const char* text) {
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !(value > 0.0)) return std::nullopt;
+  return value;
+}
+
+std::optional<std::uint64_t> whole_number(const char* text) {
+  std::uint64_t value = 0;
+  const char* end = text + std::strlen(text);
+  const auto parsed = std::from_chars(text, end, value);
+  if (parsed.ec != std::errc{} || parsed.ptr != end || parsed.ptr == text) return std::nullopt;
+  return value;
+}
+
 int main(int argc, char** argv) {
   double hours = 24.0;
   std::uint64_t seed = 1;
@@ -65,10 +84,10 @@ int main(int argc, char** argv) {
   settings.domain_id = 47;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--hours" && i + 1 < argc)
-      hours = std::atof(argv[++i]);
-    else if (a == "--seed" && i + 1 < argc)
-      seed = std::strtoull(argv[++i], nullptr, 10);
+    if (a == "--hours" && i + 1 < argc && positive_number(argv[i + 1]))
+      hours = *positive_number(argv[++i]);
+    else if (a == "--seed" && i + 1 < argc && whole_number(argv[i + 1]))
+      seed = *whole_number(argv[++i]);
     else if (a == "--no-dds")
       dds = false;
     else if (a == "--profile" && i + 1 < argc)

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# clang-format (must be clean) and clang-tidy (checks in .clang-tidy) over our C++ sources.
+# Usage: bash scripts/lint.sh [--format-only]. Needs a configured build/default (compile_commands.json).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+mapfile -t sources < <(git ls-files '*.cpp' '*.hpp' | grep -v '^idl/')
+clang-format --dry-run --Werror "${sources[@]}"
+echo "clang-format: ${#sources[@]} files clean"
+[ "${1:-}" = "--format-only" ] && exit 0
+[ -f build/default/compile_commands.json ] || { echo "configure first: cmake --preset default" >&2; exit 1; }
+mapfile -t units < <(printf '%s\n' "${sources[@]}" | grep '\.cpp$' | grep -v '^fuzz/')
+report="$(mktemp)"
+trap 'rm -f "$report"' EXIT
+printf '%s\n' "${units[@]}" | xargs -P"$(nproc)" -n1 clang-tidy -p build/default --quiet 2>/dev/null |
+  grep -E 'warning:|error:' | sort -u >"$report" || true
+cat "$report"
+echo "clang-tidy: ${#units[@]} files, $(wc -l <"$report") findings"
