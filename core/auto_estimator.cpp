@@ -298,6 +298,7 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
 void AutoEstimator::fill_estimate(const Sample& sample) {
   const Vec3 bias(filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps());
   estimate_.t_s = sample.t_s;
+  estimate_.temp_c = sample.temp_c;
   estimate_.heading_deg = filters_[2].angle_deg();
   estimate_.attitude = attitude_.attitude();
   estimate_.bias_dps = bias;

@@ -24,6 +24,7 @@ struct Estimate {
   Vec3 bias_sigma_dps = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   Vec3 rate_dps = Vec3::Zero();                                         // bias-corrected
   double heading_sigma_deg = std::numeric_limits<double>::quiet_NaN();  // NaN: not provided
+  double temp_c = std::numeric_limits<double>::quiet_NaN();             // the sample's; NaN when none
   bool in_startup = false;          // heading held while the start-up segment is measured
   std::uint64_t segment_index = 0;  // segment this sample belongs to
   SegmentVerdict closed;            // the segment this sample closed, if any

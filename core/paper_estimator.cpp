@@ -24,6 +24,7 @@ const Estimate& PaperEstimator::update(const Sample& sample) {
   previous_t_s_ = sample.t_s;
 
   estimate_.t_s = sample.t_s;
+  estimate_.temp_c = sample.temp_c;
   estimate_.heading_deg = heading_.heading_deg();
   estimate_.attitude = attitude_.attitude();
   estimate_.bias_dps = bias;

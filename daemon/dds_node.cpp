@@ -243,7 +243,7 @@ void DdsNode::publish(const core::Estimate& e, const core::Estimator& estimator,
     b.sigma_x_rad_s(sigma_rad.x());
     b.sigma_y_rad_s(sigma_rad.y());
     b.sigma_z_rad_s(sigma_rad.z());
-    b.temperature_c(nan);
+    b.temperature_c(e.temp_c);
     const double last_still = estimator.automatic() ? estimator.automatic()->last_still_t_s() : nan;
     set_stamp(b.last_still(), std::isfinite(last_still) ? last_still + wall_offset_s : 0.0);
     b.accepted_segments(estimator.accepted_segments());

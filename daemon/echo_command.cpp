@@ -20,6 +20,7 @@
 #include "daemon/config_file.hpp"
 #include "daemon/dds_participant.hpp"
 #include "daemon/exit_codes.hpp"
+#include "daemon/message_format.hpp"
 #include "daemon/signals.hpp"
 #include "headingdPubSubTypes.h"
 #include "sensor_msgs_ImuPubSubTypes.h"
@@ -31,88 +32,6 @@ using namespace eprosima::fastdds::dds;
 namespace {
 
 std::mutex g_print;
-
-template <typename S>
-double seconds(const S& stamp) {
-  return stamp.sec() + stamp.nanosec() * 1e-9;
-}
-
-std::string line_for(const headingd::msg::Orientation& m, bool json) {
-  char t[400];
-  if (json)
-    std::snprintf(
-        t, sizeof t,
-        "{\"topic\":\"orientation\",\"stamp\":%.9f,\"seq\":%llu,\"heading_rad\":%.9f,\"heading_variance_rad2\":%.6g,"
-        "\"q\":[%.9f,%.9f,%.9f,%.9f],\"rate_rad_s\":[%.6g,%.6g,%.6g],\"still\":%s}",
-        seconds(m.stamp()), static_cast<unsigned long long>(m.seq()), m.heading_rad(), m.heading_variance_rad2(),
-        m.qw(), m.qx(), m.qy(), m.qz(), m.rate_x_rad_s(), m.rate_y_rad_s(), m.rate_z_rad_s(),
-        m.still() ? "true" : "false");
-  else
-    std::snprintf(t, sizeof t,
-                  "orientation stamp=%.6f seq=%llu heading_rad=%.6f variance=%.3g q=(%.6f %.6f %.6f %.6f) still=%d",
-                  seconds(m.stamp()), static_cast<unsigned long long>(m.seq()), m.heading_rad(),
-                  m.heading_variance_rad2(), m.qw(), m.qx(), m.qy(), m.qz(), m.still() ? 1 : 0);
-  std::string s = t;
-  if (json) {  // JSON has no NaN
-    for (const char* bad : {"nan", "-nan", "inf", "-inf"}) {
-      for (auto pos = s.find(std::string(":") + bad); pos != std::string::npos; pos = s.find(std::string(":") + bad))
-        s.replace(pos + 1, std::strlen(bad), "null");
-    }
-  }
-  return s;
-}
-
-std::string line_for(const headingd::msg::GyroBias& m, bool json) {
-  char t[400];
-  std::snprintf(t, sizeof t,
-                json ? "{\"topic\":\"bias\",\"stamp\":%.9f,\"bias_rad_s\":[%.9g,%.9g,%.9g],\"accepted\":%llu,"
-                       "\"rejected\":%llu,\"method\":%d}"
-                     : "bias stamp=%.6f bias_rad_s=(%.9g %.9g %.9g) accepted=%llu rejected=%llu method=%d",
-                seconds(m.stamp()), m.bias_x_rad_s(), m.bias_y_rad_s(), m.bias_z_rad_s(),
-                static_cast<unsigned long long>(m.accepted_segments()),
-                static_cast<unsigned long long>(m.rejected_segments()), static_cast<int>(m.method()));
-  return t;
-}
-
-std::string line_for(const headingd::msg::Status& m, bool json) {
-  char t[400];
-  std::snprintf(
-      t, sizeof t,
-      json ? "{\"topic\":\"status\",\"stamp\":%.9f,\"state\":%d,\"rate_hz\":%.3f,\"samples\":%llu,\"dropped\":%llu,"
-             "\"bus_errors\":%llu,\"overruns\":%llu,\"commands_accepted\":%llu,\"commands_rejected\":%llu,\"uptime_s\":"
-             "%.3f,\"version\":\"%s\"}"
-           : "status stamp=%.6f state=%d rate_hz=%.3f samples=%llu dropped=%llu bus_errors=%llu overruns=%llu "
-             "commands_accepted=%llu commands_rejected=%llu uptime_s=%.3f version=%s",
-      seconds(m.stamp()), static_cast<int>(m.state()), m.sample_rate_hz(),
-      static_cast<unsigned long long>(m.samples_received()), static_cast<unsigned long long>(m.samples_dropped()),
-      static_cast<unsigned long long>(m.bus_errors()), static_cast<unsigned long long>(m.fifo_overruns()),
-      static_cast<unsigned long long>(m.commands_accepted()), static_cast<unsigned long long>(m.commands_rejected()),
-      m.uptime_s(), m.version().c_str());
-  return t;
-}
-
-std::string line_for(const sensor_msgs::msg::dds_::Imu_& m, bool json) {
-  char t[400];
-  std::snprintf(
-      t, sizeof t,
-      json ? "{\"topic\":\"imu\",\"stamp\":%.9f,\"frame_id\":\"%s\",\"q\":[%.9f,%.9f,%.9f,%.9f],\"angular_velocity\":[%"
-             ".6g,%.6g,%.6g],"
-             "\"linear_acceleration_covariance0\":%g}"
-           : "imu stamp=%.6f frame_id=%s q=(%.6f %.6f %.6f %.6f) angular_velocity=(%.6g %.6g %.6g) lin_acc_cov0=%g",
-      seconds(m.header().stamp()), m.header().frame_id().c_str(), m.orientation().w(), m.orientation().x(),
-      m.orientation().y(), m.orientation().z(), m.angular_velocity().x(), m.angular_velocity().y(),
-      m.angular_velocity().z(), m.linear_acceleration_covariance()[0]);
-  return t;
-}
-
-std::string line_for(const headingd::msg::HeadingCommand& m, bool json) {
-  char t[200];
-  std::snprintf(t, sizeof t,
-                json ? "{\"topic\":\"command\",\"stamp\":%.9f,\"kind\":%d,\"heading_rad\":%.9g,\"variance\":%.6g}"
-                     : "command stamp=%.6f kind=%d heading_rad=%.9g variance=%.6g",
-                seconds(m.stamp()), static_cast<int>(m.kind()), m.heading_rad(), m.heading_variance_rad2());
-  return t;
-}
 
 std::atomic<std::uint64_t> g_received{0};
 

@@ -46,6 +46,9 @@ awk -F'"seq":' '/"topic":"orientation"/ { split($2, a, ","); s = a[1] + 0; if (s
      END { print "orientation messages: " n; if (n < 395 || n > 405) { print "expected about 400"; bad = 1 }; exit bad }' "$dir/a.out" ||
   fail "orientation stream"
 grep -q '"topic":"bias"' "$dir/a.out" || fail "no GyroBias"
+# The recording has a temperature column (22 degC at the start): GyroBias carries it.
+grep '"topic":"bias"' "$dir/a.out" | tail -n 1 | grep -q '"temperature_c":2[0-9.]*,' ||
+  fail "GyroBias without the sensor temperature: $(grep '"topic":"bias"' "$dir/a.out" | tail -n 1)"
 grep -q '"topic":"status"' "$dir/a.out" || fail "no Status"
 echo "ok: every Orientation in order at 20 Hz, GyroBias and Status arrived"
 
