@@ -186,6 +186,7 @@ void DdsNode::publish(const core::Estimate& e, const core::Estimator& estimator,
   const double t = e.t_s;
   const double stamp_s = t + wall_offset_s;
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (e.closed.closed) last_verdict_still_ = e.closed.accepted;
   if (t >= next_orientation_s_) {
     next_orientation_s_ = next_orientation_s_ < -1e299
                               ? t + 1.0 / settings_.orientation_rate_hz
@@ -205,7 +206,7 @@ void DdsNode::publish(const core::Estimate& e, const core::Estimator& estimator,
     o.rate_x_rad_s(rate_rad.x());
     o.rate_y_rad_s(rate_rad.y());
     o.rate_z_rad_s(rate_rad.z());
-    o.still(e.in_startup || e.closed.accepted);
+    o.still(e.in_startup || last_verdict_still_);
     d.orientation->write(&o);
     if (d.imu != nullptr) {
       sensor_msgs::msg::dds_::Imu_ imu;

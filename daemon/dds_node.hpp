@@ -54,6 +54,9 @@ class DdsNode {
   double next_orientation_s_ = -1e300;
   double next_status_s_ = -1e300;
   double next_bias_s_ = -1e300;
+  // The last segment verdict: a live reader cannot wait for the segment in progress, so
+  // Orientation.still says what the estimator concluded last (a gate trip ends it at once).
+  bool last_verdict_still_ = false;
 };
 
 }  // namespace headingd::app

@@ -50,6 +50,9 @@ grep -q '"topic":"bias"' "$dir/a.out" || fail "no GyroBias"
 grep '"topic":"bias"' "$dir/a.out" | tail -n 1 | grep -q '"temperature_c":2[0-9.]*,' ||
   fail "GyroBias without the sensor temperature: $(grep '"topic":"bias"' "$dir/a.out" | tail -n 1)"
 grep -q '"topic":"status"' "$dir/a.out" || fail "no Status"
+# The platform stands still throughout: after the first segment's verdict, Orientation says so.
+awk '/"topic":"orientation"/ { n++; if (/"still":true/) s++ } END { printf "still flag on %d of %d\n", s, n; exit !(s >= 0.9 * n) }' \
+  "$dir/a.out" || fail "Orientation.still is not set while the platform stands still"
 echo "ok: every Orientation in order at 20 Hz, GyroBias and Status arrived"
 
 # The late subscriber came after the last message was published: what it got came from history.
