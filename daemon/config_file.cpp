@@ -2,6 +2,7 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -204,6 +205,25 @@ std::string text_of(const std::string& file, const toml::node& node, const std::
   return std::string(text->get());
 }
 
+// "IPV4:PORT" (server id 0) or a list of them, the position being the server id; "" skips one.
+std::vector<std::string> server_list(const std::string& file, const toml::node& node, const std::string& key) {
+  std::vector<std::string> servers;
+  const auto check = [&](const toml::node& entry) {
+    const std::string text = text_of(file, entry, key);
+    std::string why;
+    if (!text.empty() && !parse_server_address(text, why)) fail(file, entry, key, why + ", found " + shown(entry));
+    servers.push_back(text);
+  };
+  if (const auto* array = node.as_array()) {
+    for (const auto& entry : *array) check(entry);
+  } else {
+    check(node);
+  }
+  if (std::all_of(servers.begin(), servers.end(), [](const std::string& s) { return s.empty(); }))
+    fail(file, node, key, "names no server, found " + shown(node));
+  return servers;
+}
+
 void read_security(const TableReader& r, DdsSecurity& s) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
@@ -254,10 +274,7 @@ void read_dds(const TableReader& r, DdsSettings& d) {
         else if (name == "profiles_xml")
           d.profiles_xml = text_of(r.file(), node, key);
         else if (name == "discovery_server") {
-          d.discovery_server = text_of(r.file(), node, key);
-          std::string why;
-          if (!parse_server_address(*d.discovery_server, why))
-            fail(r.file(), node, key, why + ", found " + shown(node));
+          d.discovery_servers = server_list(r.file(), node, key);
         } else if (name == "command_max_age_s")
           d.command_limits.max_age_s = r.number(node, key, 0.0, 3600.0, true);
         else

@@ -1,5 +1,6 @@
 #include "daemon/dds_participant.hpp"
 
+#include <fastdds/rtps/attributes/ServerAttributes.h>
 #include <fastrtps/utils/IPLocator.h>
 
 #include <cstdlib>
@@ -14,15 +15,11 @@
 namespace headingd::app {
 
 using namespace eprosima::fastdds::dds;
+using eprosima::fastdds::rtps::get_server_client_default_guidPrefix;
 using eprosima::fastrtps::rtps::DiscoveryProtocol_t;
 using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
 using eprosima::fastrtps::rtps::RemoteServerAttributes;
-
-namespace {
-// The GUID prefix `fastdds discovery -i 0` serves under (Fast DDS documentation).
-constexpr const char* kServerZeroPrefix = "44.53.00.5f.45.50.52.4f.53.49.4d.41";
-}  // namespace
 
 double wall_now_s() {
   timespec ts{};
@@ -47,15 +44,19 @@ DomainParticipant* create_participant(const DdsSettings& settings, const std::st
       factory->get_participant_qos_from_profile("headingd", from_profile) == ReturnCode_t::RETCODE_OK)
     qos = from_profile;
   qos.name(name);
-  if (settings.discovery_server) {
+  for (std::size_t id = 0; id < settings.discovery_servers.size(); ++id) {
+    const std::string& text = settings.discovery_servers[id];
+    if (text.empty()) continue;
     std::string why;
-    const auto address = parse_server_address(*settings.discovery_server, why);
-    if (!address) throw std::runtime_error("discovery_server '" + *settings.discovery_server + "': " + why);
+    const auto address = parse_server_address(text, why);
+    if (!address) throw std::runtime_error("discovery_server '" + text + "': " + why);
     Locator_t locator;
     IPLocator::setIPv4(locator, address->ipv4);
     locator.port = address->port;
     RemoteServerAttributes server;
-    server.ReadguidPrefix(kServerZeroPrefix);
+    // The prefix `fastdds discovery -i ID` serves under.
+    if (!get_server_client_default_guidPrefix(static_cast<int>(id), server.guidPrefix))
+      throw std::runtime_error("discovery_server: no server GUID prefix for id " + std::to_string(id));
     server.metatrafficUnicastLocatorList.push_back(locator);
     qos.wire_protocol().builtin.discovery_config.discoveryProtocol = DiscoveryProtocol_t::CLIENT;
     qos.wire_protocol().builtin.discovery_config.m_DiscoveryServers.push_back(server);

@@ -1,6 +1,7 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "daemon/command_validator.hpp"
 
@@ -25,10 +26,12 @@ struct DdsSettings {
   bool publish_imu = true;          // sensor_msgs/msg/Imu on rt/IMU_TOPIC
   std::string imu_topic = "imu";
   std::string frame_id = "imu_link";
-  double orientation_rate_hz = 50.0;            // Orientation and Imu messages per second (0, 1000]
-  bool orientation_reliable = false;            // false: best-effort (latest wins); true: reliable
-  std::optional<std::string> profiles_xml;      // Fast DDS XML profiles (override our QoS)
-  std::optional<std::string> discovery_server;  // HOST:PORT of a Fast DDS Discovery Server
+  double orientation_rate_hz = 50.0;        // Orientation and Imu messages per second (0, 1000]
+  bool orientation_reliable = false;        // false: best-effort (latest wins); true: reliable
+  std::optional<std::string> profiles_xml;  // Fast DDS XML profiles (override our QoS)
+  // Fast DDS Discovery Servers as IPV4:PORT, the position in the list being the server id
+  // (`fastdds discovery -i ID`), as in ROS_DISCOVERY_SERVER; "" skips an id. Empty: multicast.
+  std::vector<std::string> discovery_servers;
   CommandLimits command_limits;
   DdsSecurity security;
 };

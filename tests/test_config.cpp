@@ -121,6 +121,18 @@ TEST(Config, DiscoveryServerMustBeNumericAddressAndPort) {
   message = error_of("[dds]\ndiscovery_server = \"127.0.0.1\"\n");
   EXPECT_NE(message.find("must be IPV4:PORT"), std::string::npos) << message;
   EXPECT_NE(error_of("[dds]\ndiscovery_server = \"127.0.0.1:\"\n").find("port ''"), std::string::npos);
+  message = error_of("[dds]\ndiscovery_server = [\"\", \"10.0.0.2:x\"]\n");
+  EXPECT_NE(message.find("port 'x'"), std::string::npos) << message;
+  EXPECT_NE(error_of("[dds]\ndiscovery_server = [\"\"]\n").find("names no server"), std::string::npos);
+  EXPECT_NE(error_of("[dds]\ndiscovery_server = [7]\n").find("must be a string"), std::string::npos);
+}
+
+TEST(Config, DiscoveryServersByPositionAsServerId) {
+  EXPECT_EQ(parse_config("[dds]\ndiscovery_server = \"10.0.0.1:11811\"\n", "t").dds.discovery_servers,
+            (std::vector<std::string>{"10.0.0.1:11811"}));
+  // As in ROS_DISCOVERY_SERVER: the position is the id given to `fastdds discovery -i`.
+  EXPECT_EQ(parse_config("[dds]\ndiscovery_server = [\"\", \"10.0.0.2:11812\"]\n", "t").dds.discovery_servers,
+            (std::vector<std::string>{"", "10.0.0.2:11812"}));
 }
 
 TEST(Config, SyntaxErrorHasPosition) {

@@ -50,3 +50,15 @@ with=$(grep -c '"topic":"orientation"' "$dir/with.out")
 awk -F'"seq":' '{ split($2, a, ","); s = a[1] + 0; if (NR > 1 && s != last + 1) { print "gap before seq " s; exit 1 }; last = s }' \
   "$dir/with.out" || fail "orientation stream has a gap"
 echo "ok: with the server on 127.0.0.1:$port, echo received 20 Orientation messages in order"
+
+# Phase 3: a server with id 1 only, named in the second place of a list (as ROS_DISCOVERY_SERVER does).
+kill "${pids[0]}"; wait "${pids[0]}" 2>/dev/null
+port1=$((port + 1))
+sed -i "s/^discovery_server = .*/discovery_server = [\"\", \"127.0.0.1:$port1\"]/" "$dir/cfg.toml"
+fastdds discovery -i 1 -l 127.0.0.1 -p "$port1" >"$dir/server1.out" 2>&1 &
+pids+=($!)
+sleep 1
+publish_and_listen "$dir/with1.out"
+with1=$(grep -c '"topic":"orientation"' "$dir/with1.out")
+[ "$with1" -eq 20 ] || fail "$with1 of 20 messages through Discovery Server id 1: $(head -3 "$dir/with1.out.err")"
+echo "ok: through server id 1 (second in the list), echo received 20 Orientation messages"
