@@ -42,6 +42,7 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
     filters_[static_cast<std::size_t>(axis)].restore(state);
   }
   in_startup_ = false;
+  commit_last_accepted();  // nothing to take back across a bias set from outside
 }
 
 void AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
@@ -54,8 +55,10 @@ void AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   } else {
     filters_[2].measure_angle(heading_deg, variance_deg2);
   }
-  // The segment under way must not take this back if it turns out still.
+  // The segment under way must not take this back if it turns out still, nor may a
+  // retraction of the segment before it (its states predate the fix).
   segment_.filters_at_start[2] = filters_[2].state();
+  commit_last_accepted();
 }
 
 void AutoEstimator::begin_segment(double t_s) {
@@ -122,6 +125,7 @@ SegmentVerdict AutoEstimator::close_segment() {
   if (!long_enough) {
     ++cut_;
     previous_.usable = false;
+    commit_last_accepted();  // motion came abruptly: the still segment before it stands
     return verdict;
   }
   const Vec3 mean = segment_.stats.mean_dps();
@@ -147,6 +151,24 @@ SegmentVerdict AutoEstimator::close_segment() {
     }
   }
   verdict.mean_ok = mean_ok;
+  // A creep keeps its direction: this segment alone fails the mean test against the bias
+  // predicted before the first, and the first leans the same way by at least a sigma of its
+  // own. (The pooled test is no evidence here: it contains the first segment itself.) Noise
+  // leans either way, and an acceptance it would take back stands.
+  bool same_lean = false;
+  if (previous_.usable) {
+    const double first_lean = previous_.mean_dps.z() - previous_.predicted_dps.z();
+    const double first_sd = std::sqrt(previous_.predicted_var.z() + white_dps2_s_.z() / previous_.duration_s);
+    const double lean = mean.z() - previous_.predicted_dps.z();
+    const double sd = std::sqrt(previous_.predicted_var.z() + walk_dps2_per_s_ * (previous_.duration_s + duration_s) +
+                                white_dps2_s_.z() / duration_s);
+    same_lean = first_lean * lean > 0.0 && std::abs(lean) > settings_.retract_next_lean * sd &&
+                std::abs(first_lean) >= settings_.retract_min_lean * first_sd;
+  }
+  if (!mean_ok && same_lean && hint_ == MotionHint::None && settings_.retract_before_creep)
+    retract_last_accepted();
+  else
+    commit_last_accepted();
   // Kept for the next segment's pooled test, which applies only if no cut comes between.
   previous_.usable = true;
   previous_.mean_dps = mean;
@@ -162,6 +184,8 @@ SegmentVerdict AutoEstimator::close_segment() {
     accept_still(mean, r, segment_.start_t_s + duration_s);
     if (hint_ != MotionHint::Stopped) add_verdict_doubt(deviation_z, sd_z, duration_s, true);
     ++accepted_;
+    last_accepted_.pending = true;
+    for (std::size_t axis = 0; axis < 3; ++axis) last_accepted_.as_still[axis] = filters_[axis].state();
   } else {
     if (hint_ != MotionHint::Moving) add_verdict_doubt(deviation_z, sd_z, duration_s, false);
     ++rejected_;
@@ -201,6 +225,7 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   // integrated over it, let only the bias drift, then measure the bias with the mean.
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
+    last_accepted_.as_moving[axis] = filters_[axis].state();
     filters_[axis].restore(segment_.filters_at_start[axis]);
     filters_[axis].let_bias_drift(segment_.duration_s, walk_dps2_per_s_);
     filters_[axis].shift_bias(segment_.temperature_shift_dps[a], segment_.temperature_shift_var[a]);
@@ -211,19 +236,57 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   const double yaw_correction_deg = filters_[2].angle_deg() - segment_.filters_at_start[2].angle_deg;
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * segment_.attitude_at_start);
 
-  if (segment_.temp_count > 0) {
-    const double temp_c = segment_.temp_sum_c / segment_.temp_count;
-    const double mid_t_s = segment_.start_t_s + 0.5 * segment_.duration_s;
-    for (std::size_t axis = 0; axis < 3; ++axis) {
-      const auto a = static_cast<Eigen::Index>(axis);
-      temperature_[axis].add(mid_t_s, temp_c, mean_dps[a], r_dps2[a]);
-    }
+  last_accepted_.has_temperature = segment_.temp_count > 0;
+  if (last_accepted_.has_temperature) {
+    last_accepted_.temp_c = segment_.temp_sum_c / segment_.temp_count;
+    last_accepted_.mid_t_s = segment_.start_t_s + 0.5 * segment_.duration_s;
+    last_accepted_.mean_dps = mean_dps;
+    last_accepted_.r_dps2 = r_dps2;
   }
   if (!settings_.arw_dps_rt_hz) {
     pooled_noise_.add(segment_.blocks);
     if (pooled_noise_.known()) white_dps2_s_ = pooled_noise_.density_squared();
   }
   last_still_t_s_ = end_t_s;
+}
+
+void AutoEstimator::commit_last_accepted() {
+  if (!last_accepted_.pending) return;
+  last_accepted_.pending = false;
+  if (!last_accepted_.has_temperature) return;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    temperature_[axis].add(last_accepted_.mid_t_s, last_accepted_.temp_c, last_accepted_.mean_dps[a],
+                           last_accepted_.r_dps2[a]);
+  }
+}
+
+void AutoEstimator::retract_last_accepted() {
+  if (!last_accepted_.pending) return;
+  last_accepted_.pending = false;
+  // The filter is linear: what the current segment did to the state judged still, it would
+  // have done to the state judged moving. Carry the difference across it (F = [1, -T; 0, 1]).
+  const double t_s = segment_.duration_s;
+  Eigen::Matrix2d f;
+  f << 1.0, -t_s, 0.0, 1.0;
+  double yaw_change_deg = 0.0;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto& moving = last_accepted_.as_moving[axis];
+    const auto& still = last_accepted_.as_still[axis];
+    auto state = filters_[axis].state();
+    const double d_bias = moving.bias_dps - still.bias_dps;
+    const double d_angle = (moving.angle_deg - still.angle_deg) - t_s * d_bias;
+    state.angle_deg += d_angle;
+    state.bias_dps += d_bias;
+    state.covariance += f * (moving.covariance - still.covariance) * f.transpose();
+    state.covariance = 0.5 * (state.covariance + state.covariance.transpose()).eval();
+    filters_[axis].restore(state);
+    if (axis == 2) yaw_change_deg = d_angle;
+  }
+  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_change_deg), Vec3::UnitZ()) * attitude_.attitude());
+  --accepted_;
+  ++rejected_;
+  ++retracted_;
 }
 
 void AutoEstimator::follow_temperature(double temp_c) {

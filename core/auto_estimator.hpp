@@ -54,6 +54,8 @@ class AutoEstimator {
   std::uint64_t accepted_segments() const { return accepted_; }
   std::uint64_t rejected_segments() const { return rejected_; }  // long enough, failed the mean test
   std::uint64_t cut_segments() const { return cut_; }            // cut by motion before min_segment_s
+  // Accepted, then taken back when the next segment showed a creep (counted as rejected).
+  std::uint64_t retracted_segments() const { return retracted_; }
   double last_still_t_s() const { return last_still_t_s_; }
 
  private:
@@ -92,8 +94,24 @@ class AutoEstimator {
     Vec3 predicted_var = Vec3::Zero();
   };
 
+  // The last accepted segment, until the next one is judged: the filter states at its end
+  // judged moving and judged still, to take the acceptance back (retract_before_creep).
+  struct LastAccepted {
+    bool pending = false;
+    std::array<AxisFilter::State, 3> as_moving{};
+    std::array<AxisFilter::State, 3> as_still{};
+    bool has_temperature = false;  // its temperature-model point waits for the same verdict
+    double mid_t_s = 0.0;
+    double temp_c = 0.0;
+    Vec3 mean_dps = Vec3::Zero();
+    Vec3 r_dps2 = Vec3::Zero();
+  };
+  void retract_last_accepted();
+  void commit_last_accepted();
+
   BiasSettings segments_;
   Previous previous_;
+  LastAccepted last_accepted_;
   AutoSettings settings_;
   std::array<AxisFilter, 3> filters_{};
   std::array<TemperatureModel, 3> temperature_;
@@ -116,6 +134,7 @@ class AutoEstimator {
   std::uint64_t accepted_ = 0;
   std::uint64_t rejected_ = 0;
   std::uint64_t cut_ = 0;
+  std::uint64_t retracted_ = 0;
   double last_still_t_s_ = 0.0;
 };
 

@@ -40,6 +40,13 @@ struct AutoSettings {
   // false: the hard verdict decides the heading and only the variance reflects the doubt.
   bool soft_verdicts = false;
   double creep_span_dps = 0.2;
+  // A creep that starts inside a segment can pass that segment's tests and then fail the next
+  // one's (the pooled test sees it). true: the next segment's rejection takes the first
+  // one's acceptance back, exactly as if it had been judged moving from the start, so the
+  // bias does not keep a piece of the creep.
+  bool retract_before_creep = true;
+  double retract_min_lean = 1.0;   // the first segment's own lean, in sigmas of its mean
+  double retract_next_lean = 2.0;  // the next segment's lean on its own, in sigmas of its mean
   double creep_prior = 0.1;
   // Time constant of the running estimate of sample-to-sample noise (vibration), s: while it
   // exceeds the still noise, the heading variance grows with it instead.

@@ -43,6 +43,8 @@ void print_summary(const drivers::SampleSource& source, const core::Estimator& e
     const auto n = automatic->noise_density_dps_rt_hz();
     std::fprintf(stderr, "  noise        x %.4f  y %.4f  z %.4f dps/sqrt(Hz) (angle random walk)\n", n.x(), n.y(),
                  n.z());
+    std::fprintf(stderr, "  creep        %llu accepted segments taken back when the next one showed a creep\n",
+                 static_cast<unsigned long long>(automatic->retracted_segments()));
     const auto& model = automatic->temperature_model(2);
     if (model.ready()) {
       std::fprintf(stderr, "  temperature  z bias slope %+.5f dps/C over a %.1f C span (%u segments)\n",

@@ -56,6 +56,7 @@ k_mean = 4
 arw_dps_rt_hz = [0.1, 0.1, 0.011]
 bias_walk_dps_rt_s = 0.0002
 block_s = 0.05
+retract_before_creep = false
 [estimator.temperature]
 enabled = false
 reference_c = 30
@@ -74,6 +75,7 @@ min_points = 5
   EXPECT_DOUBLE_EQ(a.arw_dps_rt_hz->z(), 0.011);
   EXPECT_DOUBLE_EQ(a.bias_walk_dps_rt_s, 0.0002);
   EXPECT_DOUBLE_EQ(a.block_s, 0.05);
+  EXPECT_FALSE(a.retract_before_creep);
   EXPECT_FALSE(a.use_temperature);
   EXPECT_DOUBLE_EQ(a.temperature.reference_c, 30.0);
   EXPECT_DOUBLE_EQ(a.temperature.half_life_s, 7200.0);
