@@ -247,6 +247,7 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
     pooled_noise_.add(segment_.blocks);
     if (pooled_noise_.known()) white_dps2_s_ = pooled_noise_.density_squared();
   }
+  last_accepted_.last_still_before_t_s = last_still_t_s_;
   last_still_t_s_ = end_t_s;
 }
 
@@ -287,6 +288,7 @@ void AutoEstimator::retract_last_accepted() {
   --accepted_;
   ++rejected_;
   ++retracted_;
+  last_still_t_s_ = last_accepted_.last_still_before_t_s;
 }
 
 void AutoEstimator::follow_temperature(double temp_c) {

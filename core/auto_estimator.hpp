@@ -11,6 +11,7 @@
 //  - honest uncertainty: heading variance from white noise and bias uncertainty.
 #include <array>
 #include <cstdint>
+#include <limits>
 
 #include "core/attitude_integrator.hpp"
 #include "core/auto_settings.hpp"
@@ -105,6 +106,7 @@ class AutoEstimator {
     double temp_c = 0.0;
     Vec3 mean_dps = Vec3::Zero();
     Vec3 r_dps2 = Vec3::Zero();
+    double last_still_before_t_s = 0.0;  // last_still_t_s_ before it
   };
   void retract_last_accepted();
   void commit_last_accepted();
@@ -135,7 +137,7 @@ class AutoEstimator {
   std::uint64_t rejected_ = 0;
   std::uint64_t cut_ = 0;
   std::uint64_t retracted_ = 0;
-  double last_still_t_s_ = 0.0;
+  double last_still_t_s_ = std::numeric_limits<double>::quiet_NaN();  // NaN until a segment is accepted
 };
 
 }  // namespace headingd::core

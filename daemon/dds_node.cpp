@@ -232,7 +232,8 @@ void DdsNode::publish(const core::Estimate& e, const core::Estimator& estimator,
       d.imu->write(&imu);
     }
   }
-  if (t >= next_bias_s_) {
+  // No GyroBias before the start-up segment has measured one: a zero bias would read as known.
+  if (t >= next_bias_s_ && !e.in_startup) {
     next_bias_s_ = t + 1.0;
     headingd::msg::GyroBias b;
     set_stamp(b.stamp(), stamp_s);
