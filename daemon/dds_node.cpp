@@ -222,11 +222,15 @@ void DdsNode::publish(const core::Estimate& e, const core::Estimator& estimator,
       imu.angular_velocity().x(rate_rad.x());
       imu.angular_velocity().y(rate_rad.y());
       imu.angular_velocity().z(rate_rad.z());
+      // One sample's rate: its own noise (sigma_still) plus the uncertainty of the bias taken
+      // off it. All zeros, ROS's "covariance unknown", until both are measured.
       const core::Vec3 bias_sigma = e.bias_sigma_dps * core::kRadPerDeg;
+      const core::Vec3 sample_sigma = estimator.sigma_still_dps() * core::kRadPerDeg;
       imu.angular_velocity_covariance() = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-      for (int a = 0; a < 3; ++a) {
-        const double s = std::isfinite(bias_sigma[a]) ? bias_sigma[a] : 0.0;
-        imu.angular_velocity_covariance()[4 * static_cast<std::size_t>(a)] = s * s;
+      if (bias_sigma.allFinite() && (sample_sigma.array() > 0.0).all()) {
+        for (int a = 0; a < 3; ++a)
+          imu.angular_velocity_covariance()[4 * static_cast<std::size_t>(a)] =
+              sample_sigma[a] * sample_sigma[a] + bias_sigma[a] * bias_sigma[a];
       }
       imu.linear_acceleration_covariance() = {-1, 0, 0, 0, 0, 0, 0, 0, 0};  // not provided
       d.imu->write(&imu);

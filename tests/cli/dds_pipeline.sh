@@ -22,7 +22,7 @@ TOML
 # 20 s of a platform standing still (the simulator, 400 Hz).
 "$headingd" simulate --scenario still --seed 9 --hours 0.0055555556 --output-dir "$dir" 2>/dev/null || fail "simulate"
 
-"$headingd" echo orientation bias status --reliable --json -c "$dir/cfg.toml" --timeout 60 >"$dir/a.out" 2>"$dir/a.err" &
+"$headingd" echo orientation bias status imu --reliable --json -c "$dir/cfg.toml" --timeout 60 >"$dir/a.out" 2>"$dir/a.err" &
 pids+=($!)
 "$headingd" replay "$dir/imu.csv" --speed realtime --wait-subscribers 10 --linger 10 -c "$dir/cfg.toml" -o /dev/null 2>"$dir/replay.err" &
 replay=$!
@@ -53,7 +53,11 @@ grep -q '"topic":"status"' "$dir/a.out" || fail "no Status"
 # The platform stands still throughout: after the first segment's verdict, Orientation says so.
 awk '/"topic":"orientation"/ { n++; if (/"still":true/) s++ } END { printf "still flag on %d of %d\n", s, n; exit !(s >= 0.9 * n) }' \
   "$dir/a.out" || fail "Orientation.still is not set while the platform stands still"
-echo "ok: every Orientation in order at 20 Hz, GyroBias and Status arrived"
+# Imu: a sample's rate carries its own noise (sigma_still, about 0.14 dps on z here) in its covariance.
+imu_cov_z=$(grep '"topic":"imu"' "$dir/a.out" | tail -n 1 | sed -n 's/.*"angular_velocity_covariance_diag":\[[^]]*,\([-0-9.e]*\)\].*/\1/p')
+awk -v c="$imu_cov_z" 'BEGIN { exit !(c > 1e-6 && c < 1e-4) }' ||
+  fail "Imu angular velocity variance on z is '$imu_cov_z' rad^2/s^2, expected the sample noise (~6e-6)"
+echo "ok: every Orientation in order at 20 Hz, GyroBias, Status and Imu arrived (Imu z rate variance $imu_cov_z)"
 
 # The late subscriber came after the last message was published: what it got came from history.
 grep -q '"topic":"status"' "$dir/late.out" || fail "late subscriber got no Status: $(cat "$dir/late.out")"
