@@ -43,6 +43,8 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
   }
   in_startup_ = false;
   commit_last_accepted();  // nothing to take back across a bias set from outside
+  // A restored bias is not confirmed until a stop after motion agrees with it.
+  bias_from_startup_only_ = true;
 }
 
 void AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
@@ -114,6 +116,8 @@ SegmentVerdict AutoEstimator::close_startup() {
   }
   ++accepted_;
   last_still_t_s_ = segment_.start_t_s + duration_s;
+  bias_from_startup_only_ = true;
+  startup_start_t_s_ = segment_.start_t_s;
   return verdict;
 }
 
@@ -125,7 +129,8 @@ SegmentVerdict AutoEstimator::close_segment() {
   if (!long_enough) {
     ++cut_;
     previous_.usable = false;
-    commit_last_accepted();  // motion came abruptly: the still segment before it stands
+    quiet_.duration_s = 0.0;  // motion: whatever the quiet run was, it has ended
+    commit_last_accepted();   // motion came abruptly: the still segment before it stands
     return verdict;
   }
   const Vec3 mean = segment_.stats.mean_dps();
@@ -186,9 +191,11 @@ SegmentVerdict AutoEstimator::close_segment() {
     ++accepted_;
     last_accepted_.pending = true;
     for (std::size_t axis = 0; axis < 3; ++axis) last_accepted_.as_still[axis] = filters_[axis].state();
+    quiet_.duration_s = 0.0;
   } else {
     if (hint_ != MotionHint::Moving) add_verdict_doubt(deviation_z, sd_z, duration_s, false);
     ++rejected_;
+    if (hint_ == MotionHint::None && settings_.recover_after_s > 0.0) follow_quiet_run(mean);
   }
   return verdict;
 }
@@ -248,6 +255,9 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
     if (pooled_noise_.known()) white_dps2_s_ = pooled_noise_.density_squared();
   }
   last_accepted_.last_still_before_t_s = last_still_t_s_;
+  // Only a stop after motion confirms the start-up level; segments running on from the
+  // start-up without a gate trip may be the same turn going on.
+  if (motion_since_startup_) bias_from_startup_only_ = false;
   last_still_t_s_ = end_t_s;
 }
 
@@ -291,6 +301,65 @@ void AutoEstimator::retract_last_accepted() {
   last_still_t_s_ = last_accepted_.last_still_before_t_s;
 }
 
+void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
+  const double duration_s = segment_.duration_s;
+  bool agrees = quiet_.duration_s > 0.0;
+  if (agrees) {
+    // The same level within the mean test's own scale: a steady signal, not a changing rate.
+    const Vec3 run_mean = quiet_.mean_dps();
+    for (Eigen::Index a = 0; a < 3; ++a) {
+      const double sd = std::sqrt(white_dps2_s_[a] / duration_s + white_dps2_s_[a] / quiet_.duration_s);
+      agrees = agrees && std::abs(mean_dps[a] - run_mean[a]) <= settings_.k_mean * sd;
+    }
+  }
+  if (!agrees) {
+    quiet_ = QuietRun{};
+    quiet_.filters_at_start = segment_.filters_at_start;
+    quiet_.attitude_at_start = segment_.attitude_at_start;
+  }
+  quiet_.duration_s += duration_s;
+  quiet_.sum_dps_s += mean_dps * duration_s;
+  quiet_.sum_sq_dps2_s += mean_dps.cwiseAbs2() * duration_s;
+  quiet_.sigma_dps = segment_.stats.sigma_dps();
+  if (quiet_.duration_s + kTimeEpsilonS >= settings_.recover_after_s) recover_bias();
+}
+
+void AutoEstimator::recover_bias() {
+  // Taken for a stop: the heading goes back to the run's start (a zero-rate update over it),
+  // the bias starts again from the run's mean, and the heading's variance takes the whole
+  // bias change over the time it was integrated with the old bias, for that is unknown:
+  // from the last accepted segment to the run, or from the start when the old bias rests on
+  // the start-up alone (that may have been a turn, held as still).
+  const Vec3 mean = quiet_.mean_dps();
+  // The bias variance: the mean's own noise, plus the spread of the segment means, for a run
+  // taken for a stop may still hold some slow motion.
+  const Vec3 spread = (quiet_.sum_sq_dps2_s / quiet_.duration_s - mean.cwiseAbs2()).cwiseMax(0.0);
+  const Vec3 r = white_dps2_s_ / quiet_.duration_s + spread;
+  const double run_start_s = segment_.start_t_s + segment_.duration_s - quiet_.duration_s;
+  const double trusted_until_s = bias_from_startup_only_          ? startup_start_t_s_
+                                 : std::isfinite(last_still_t_s_) ? last_still_t_s_
+                                                                  : run_start_s;
+  const double exposed_s = std::max(0.0, run_start_s - trusted_until_s);
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    AxisFilter::State state = quiet_.filters_at_start[axis];
+    const double change_deg = (mean[a] - state.bias_dps) * exposed_s;
+    state.bias_dps = mean[a];
+    state.covariance(0, 0) += change_deg * change_deg;
+    state.covariance(0, 1) = state.covariance(1, 0) = 0.0;
+    state.covariance(1, 1) = r[a];
+    filters_[axis].restore(state);
+    temperature_[axis] = TemperatureModel(settings_.temperature);  // it learned from the wrong level
+  }
+  attitude_.set_attitude(quiet_.attitude_at_start);
+  if (!segments_.sigma_still_dps) sigma_still_dps_ = quiet_.sigma_dps.cwiseMax(kMinSigmaStillDps);
+  last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
+  previous_.usable = false;
+  quiet_ = QuietRun{};
+  bias_from_startup_only_ = false;
+  ++recoveries_;
+}
+
 void AutoEstimator::follow_temperature(double temp_c) {
   if (!settings_.use_temperature || !std::isfinite(temp_c) || !std::isfinite(previous_temp_c_)) return;
   const double delta_c = temp_c - previous_temp_c_;
@@ -310,6 +379,7 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
   estimate_.closed = SegmentVerdict{};
   if (!started_) {
     started_ = true;
+    if (!std::isfinite(startup_start_t_s_)) startup_start_t_s_ = sample.t_s;
     previous_t_s_ = sample.t_s;
     previous_temp_c_ = sample.temp_c;
     begin_segment(sample.t_s);
@@ -337,7 +407,10 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
     const bool trips = !full && range_gate_trips(sample.rate_dps);
     if (full || trips) {
       estimate_.closed = close_segment();
-      if (trips) previous_.usable = false;  // motion came between
+      if (trips) {
+        previous_.usable = false;  // motion came between
+        motion_since_startup_ = true;
+      }
       ++segment_index_;
       begin_segment(sample.t_s);
     }

@@ -57,6 +57,8 @@ class AutoEstimator {
   std::uint64_t cut_segments() const { return cut_; }            // cut by motion before min_segment_s
   // Accepted, then taken back when the next segment showed a creep (counted as rejected).
   std::uint64_t retracted_segments() const { return retracted_; }
+  // Times the bias started again from a long quiet period it could not explain (recover_after_s).
+  std::uint64_t bias_recoveries() const { return recoveries_; }
   double last_still_t_s() const { return last_still_t_s_; }
 
  private:
@@ -111,6 +113,25 @@ class AutoEstimator {
   void retract_last_accepted();
   void commit_last_accepted();
 
+  // Consecutive quiet, rejected segments that agree with one another (recover_after_s).
+  struct QuietRun {
+    double duration_s = 0.0;
+    Vec3 sum_dps_s = Vec3::Zero();      // sum of segment mean times length
+    Vec3 sum_sq_dps2_s = Vec3::Zero();  // sum of squared segment mean times length
+    std::array<AxisFilter::State, 3> filters_at_start{};
+    Eigen::Quaterniond attitude_at_start = Eigen::Quaterniond::Identity();
+    Vec3 sigma_dps = Vec3::Zero();  // per-sample sigma of its latest segment
+    Vec3 mean_dps() const { return sum_dps_s / duration_s; }
+  };
+  // Extends the run with the segment just rejected, or starts it; recovers when it is long.
+  void follow_quiet_run(const Vec3& mean_dps);
+  void recover_bias();
+  QuietRun quiet_;
+  // The bias still rests on the start-up segment alone (and segments running on from it).
+  bool bias_from_startup_only_ = false;
+  double startup_start_t_s_ = std::numeric_limits<double>::quiet_NaN();  // or the first sample's
+  bool motion_since_startup_ = false;  // the range gate has tripped since the start-up
+
   BiasSettings segments_;
   Previous previous_;
   LastAccepted last_accepted_;
@@ -137,6 +158,7 @@ class AutoEstimator {
   std::uint64_t rejected_ = 0;
   std::uint64_t cut_ = 0;
   std::uint64_t retracted_ = 0;
+  std::uint64_t recoveries_ = 0;
   double last_still_t_s_ = std::numeric_limits<double>::quiet_NaN();  // NaN until a segment is accepted
 };
 

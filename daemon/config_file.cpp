@@ -160,12 +160,14 @@ void read_auto(const TableReader& r, core::AutoSettings& a) {
           a.block_s = r.number(node, key, 0.0, 60.0, true);
         else if (name == "retract_before_creep")
           a.retract_before_creep = r.boolean(node, key);
+        else if (name == "recover_after_s")
+          a.recover_after_s = r.number(node, key, 0.0, 86400.0, false);
         else
           return false;
         return true;
       },
       "min_segment_s, k_range, k_mean, k_mean_pooled, arw_dps_rt_hz, bias_walk_dps_rt_s, block_s, "
-      "retract_before_creep");
+      "retract_before_creep, recover_after_s");
 }
 
 void read_estimator(const TableReader& r, core::EstimatorSettings& e) {

@@ -45,6 +45,11 @@ void print_summary(const drivers::SampleSource& source, const core::Estimator& e
                  n.z());
     std::fprintf(stderr, "  creep        %llu accepted segments taken back when the next one showed a creep\n",
                  static_cast<unsigned long long>(automatic->retracted_segments()));
+    if (automatic->bias_recoveries() > 0)
+      std::fprintf(stderr,
+                   "  recovered    the bias started again %llu times from a long quiet period it could not "
+                   "explain (a start-up while turning?)\n",
+                   static_cast<unsigned long long>(automatic->bias_recoveries()));
     const auto& model = automatic->temperature_model(2);
     if (model.ready()) {
       std::fprintf(stderr, "  temperature  z bias slope %+.5f dps/C over a %.1f C span (%u segments)\n",

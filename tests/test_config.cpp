@@ -57,6 +57,7 @@ arw_dps_rt_hz = [0.1, 0.1, 0.011]
 bias_walk_dps_rt_s = 0.0002
 block_s = 0.05
 retract_before_creep = false
+recover_after_s = 30
 [estimator.temperature]
 enabled = false
 reference_c = 30
@@ -76,6 +77,7 @@ min_points = 5
   EXPECT_DOUBLE_EQ(a.bias_walk_dps_rt_s, 0.0002);
   EXPECT_DOUBLE_EQ(a.block_s, 0.05);
   EXPECT_FALSE(a.retract_before_creep);
+  EXPECT_DOUBLE_EQ(a.recover_after_s, 30.0);
   EXPECT_FALSE(a.use_temperature);
   EXPECT_DOUBLE_EQ(a.temperature.reference_c, 30.0);
   EXPECT_DOUBLE_EQ(a.temperature.half_life_s, 7200.0);
