@@ -3,6 +3,10 @@
 # Usage: bash scripts/lint.sh [--format-only]. Needs a configured build/default (compile_commands.json).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if ! git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+  echo "not a git checkout: nothing to list the sources with" >&2
+  exit 77
+fi
 mapfile -t sources < <(git ls-files '*.cpp' '*.hpp' | grep -v '^idl/')
 clang-format --dry-run --Werror "${sources[@]}"
 echo "clang-format: ${#sources[@]} files clean"
