@@ -235,6 +235,7 @@ int run_live(const RunOptions& options) {
     double first_t_s = NAN;
     double wall_offset_s = 0.0;
     StatusReport report;
+    std::uint64_t recoveries_seen = 0;  // of the bias (auto), to warn once per recovery
     while (const std::size_t n = source->driver().read(batch)) {
       const auto& counters = source->driver().counters();
       for (std::size_t i = 0; i < n; ++i) {
@@ -248,6 +249,18 @@ int run_live(const RunOptions& options) {
         }
         const auto& estimate = estimator_owner->update(batch[i]);
         if (writer) writer->add(estimate);
+        if (const auto* automatic = estimator_owner->automatic()) {
+          if (automatic->bias_recoveries() > recoveries_seen) {
+            char text[300];
+            std::snprintf(text, sizeof text,
+                          "the bias restarted from a long quiet period it could not explain (a start-up while "
+                          "turning, or a wrong saved bias): heading sigma now %.1f deg; a heading fix "
+                          "(HeadingCommand set-heading) restores it",
+                          estimate.heading_sigma_deg);
+            log(LogPriority::Warning, "bias-recovery", text);
+          }
+          recoveries_seen = automatic->bias_recoveries();
+        }
         if (node) {
           report.state = counters.recoveries > 0 && counters.samples < 400 ? 2 : 1;  // DEGRADED right after a fault
           report.sample_rate_hz = source->driver().rate_hz();
