@@ -19,6 +19,7 @@
 #include "core/units.hpp"
 #include "daemon/dds_participant.hpp"
 #include "daemon/version.hpp"
+#include "daemon/wire_method.hpp"
 #include "headingdPubSubTypes.h"
 #include "sensor_msgs_ImuPubSubTypes.h"
 
@@ -254,20 +255,7 @@ void DdsNode::publish(const core::Estimate& e, const core::Estimator& estimator,
     set_stamp(b.last_still(), std::isfinite(last_still) ? last_still + wall_offset_s : 0.0);
     b.accepted_segments(estimator.accepted_segments());
     b.rejected_segments(estimator.rejected_segments());
-    switch (estimator.method()) {
-      case core::Method::Auto:
-        b.method(headingd::msg::Method::METHOD_AUTO);
-        break;
-      case core::Method::A:
-        b.method(headingd::msg::Method::METHOD_A);
-        break;
-      case core::Method::B:
-        b.method(headingd::msg::Method::METHOD_B);
-        break;
-      case core::Method::C:
-        b.method(headingd::msg::Method::METHOD_C);
-        break;
-    }
+    b.method(to_wire(estimator.method()));
     d.bias->write(&b);
   }
   if (t >= next_status_s_) {

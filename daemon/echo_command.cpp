@@ -56,18 +56,23 @@ class Printer : public DataReaderListener {
   bool json_;
 };
 
-DdsSettings load_dds(const std::optional<std::string>& path) { return path ? load_config(*path).dds : DdsSettings{}; }
+// The [dds] section of the config file (defaults without one), or nothing after saying what
+// is wrong with the file.
+std::optional<DdsSettings> load_dds_or_report(const std::optional<std::string>& path) {
+  try {
+    return path ? load_config(*path).dds : DdsSettings{};
+  } catch (const ConfigError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return std::nullopt;
+  }
+}
 
 }  // namespace
 
 int run_echo(const EchoOptions& options) {
-  DdsSettings settings;
-  try {
-    settings = load_dds(options.config_path);
-  } catch (const ConfigError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    return kExitConfig;
-  }
+  const auto loaded = load_dds_or_report(options.config_path);
+  if (!loaded) return kExitConfig;
+  const DdsSettings& settings = *loaded;
   std::vector<std::string> topics = options.topics;
   if (topics.empty()) topics = {"orientation", "imu", "bias", "status"};
   for (const auto& t : topics) {
@@ -137,13 +142,9 @@ int run_echo(const EchoOptions& options) {
 }
 
 int run_command(const CommandOptions& options) {
-  DdsSettings settings;
-  try {
-    settings = load_dds(options.config_path);
-  } catch (const ConfigError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    return kExitConfig;
-  }
+  const auto loaded = load_dds_or_report(options.config_path);
+  if (!loaded) return kExitConfig;
+  const DdsSettings& settings = *loaded;
   headingd::msg::HeadingCommand command;
   if (options.kind == "set-heading")
     command.kind(headingd::msg::CommandKind::COMMAND_SET_HEADING);

@@ -3,13 +3,13 @@
 #include <limits>
 
 #include "daemon/message_line.hpp"
+#include "daemon/wire_method.hpp"
 
 namespace headingd::app {
 
 namespace {
 
 using headingd::msg::CommandKind;
-using headingd::msg::Method;
 using headingd::msg::SensorState;
 
 template <typename S>
@@ -36,20 +36,6 @@ const char* name_of(SensorState state) {
       return "failed";
     case SensorState::SENSOR_REPLAY:
       return "replay";
-  }
-  return "unknown";
-}
-
-const char* name_of(Method method) {
-  switch (method) {
-    case Method::METHOD_AUTO:
-      return "auto";
-    case Method::METHOD_A:
-      return "a";
-    case Method::METHOD_B:
-      return "b";
-    case Method::METHOD_C:
-      return "c";
   }
   return "unknown";
 }
@@ -91,7 +77,7 @@ std::string line_for(const headingd::msg::GyroBias& m, bool json) {
       .fixed("last_still", last_still > 0.0 ? last_still : std::numeric_limits<double>::quiet_NaN(), json ? 9 : 6)
       .count("accepted", m.accepted_segments())
       .count("rejected", m.rejected_segments())
-      .text("method", name_of(m.method()))
+      .text("method", core::method_name(from_wire(m.method())))
       .str();
 }
 
