@@ -7,7 +7,7 @@ set -euo pipefail
 source "$(dirname "$0")/../scripts/lib.sh"
 ensure_packages "${HEADINGD_PACKAGES[@]}" gnuplot-nox
 build_preset default quiet
-headingd="$HEADINGD_ROOT/build/default/daemon/headingd"
+headingd="$HEADINGD_ROOT/build/default/app/headingd"
 out="$HEADINGD_ROOT/build/bench"
 mkdir -p "$out"
 seeds=("$@")

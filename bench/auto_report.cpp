@@ -13,8 +13,9 @@
 
 #include "core/estimator.hpp"
 #include "core/heading_metrics.hpp"
-#include "drivers/gyro_simulator.hpp"
 #include "machine.hpp"
+#include "pipeline/pipeline.hpp"
+#include "sim/simulated_source.hpp"
 
 using namespace headingd;
 
@@ -30,21 +31,23 @@ struct Classification {
   std::array<std::uint64_t, kBands.size()> moving{}, moving_detected{};
 };
 
-// Per-method bookkeeping while a run goes on.
-struct Run {
-  explicit Run(core::Method method)
-      : estimator([&] {
-          core::EstimatorSettings s;
-          s.method = method;
-          return s;
-        }()) {}
-  core::Estimator estimator;
+// Per-method bookkeeping while a run goes on: a sink beside the estimator it scores, reading
+// the truth of each sample from the simulated source.
+struct Run final : public pipeline::Sink {
+  Run(const drivers::SimulatedSource& simulated, std::uint64_t score_every) : source(simulated), every(score_every) {}
+  const drivers::SimulatedSource& source;
+  std::uint64_t every;       // score one sample in this many (10 Hz)
+  std::uint64_t index = 0;   // of the sample, over the run
+  std::size_t in_batch = 0;  // of the sample in the source's last batch
   core::HeadingMetrics metrics;
   std::uint64_t honest = 0, judged = 0;
   Classification classes;
   // Truth over the segment under way.
   std::uint64_t seg_samples = 0, seg_still = 0, seg_moving = 0;
   double seg_min_rate = 1e9, seg_max_rate = 0.0;
+
+  void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) override;
+  void batch_done(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) override { in_batch = 0; }
 };
 
 void close_segment(Run& run, bool accepted) {
@@ -67,24 +70,37 @@ void close_segment(Run& run, bool accepted) {
   run.seg_max_rate = 0.0;
 }
 
-void step(Run& run, const core::Sample& sample, const drivers::TruthPoint& truth, bool output) {
-  const auto& estimate = run.estimator.update(sample);
-  if (estimate.closed.closed) close_segment(run, estimate.closed.accepted);
-  ++run.seg_samples;
+void Run::add(const core::Sample& /*sample*/, const core::Estimate& estimate, const core::Estimator& /*estimator*/) {
+  const drivers::TruthPoint& truth = source.truth()[in_batch++];
+  const bool output = index++ % every == 0;
+  if (estimate.closed.closed) close_segment(*this, estimate.closed.accepted);
+  ++seg_samples;
   const double rate = std::abs(truth.rate_z_dps);
-  if (!truth.moving) ++run.seg_still;
+  if (!truth.moving) ++seg_still;
   if (truth.moving && rate > 0.0) {
-    ++run.seg_moving;
-    run.seg_min_rate = std::min(run.seg_min_rate, rate);
-    run.seg_max_rate = std::max(run.seg_max_rate, rate);
+    ++seg_moving;
+    seg_min_rate = std::min(seg_min_rate, rate);
+    seg_max_rate = std::max(seg_max_rate, rate);
   }
   if (!output) return;
   const double error = truth.heading_deg - estimate.heading_deg;
-  run.metrics.add(truth.t_s, error);
+  metrics.add(truth.t_s, error);
   if (std::isfinite(estimate.heading_sigma_deg)) {
-    ++run.judged;
-    run.honest += std::abs(error) <= 2.0 * estimate.heading_sigma_deg + 1e-12 ? 1u : 0u;
+    ++judged;
+    honest += std::abs(error) <= 2.0 * estimate.heading_sigma_deg + 1e-12 ? 1u : 0u;
   }
+}
+
+// One method over one simulated world, through the daemon's pipeline.
+Run run_method(const drivers::Scenario& scenario, std::uint64_t seed, core::Method method) {
+  drivers::SimulatedSource source(scenario, seed);
+  core::EstimatorSettings settings;
+  settings.method = method;
+  pipeline::Pipeline line(source, std::make_unique<core::Estimator>(settings), {});
+  Run run(source, static_cast<std::uint64_t>(scenario.noise.rate_hz / 10.0));
+  line.add_sink(run);
+  line.run();
+  return run;
 }
 
 struct Row {
@@ -146,16 +162,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "unknown scenario %s\n", name.c_str());
         return 64;
       }
-      drivers::GyroSimulator sim(*scenario, seed);
-      Run c(core::Method::C), automatic(core::Method::Auto);
-      core::Sample sample;
-      drivers::TruthPoint truth;
-      const auto every = static_cast<std::uint64_t>(scenario->noise.rate_hz / 10.0);
-      for (std::uint64_t i = 0; !sim.done(); ++i) {
-        sim.step(sample, truth);
-        step(c, sample, truth, i % every == 0);
-        step(automatic, sample, truth, i % every == 0);
-      }
+      const Run c = run_method(*scenario, seed, core::Method::C);
+      const Run automatic = run_method(*scenario, seed, core::Method::Auto);
       rows.push_back(Row{name, seed, c.metrics, automatic.metrics, pct(automatic.honest, automatic.judged),
                          automatic.honest, automatic.judged, c.classes, automatic.classes});
       std::fflush(stdout);

@@ -12,7 +12,7 @@ out="$HEADINGD_ROOT/build/bench/broad-05"
 mkdir -p "$out"
 args=()
 for method in auto c; do
-  "$bin/daemon/headingd" replay --no-dds "$data/imu.csv" --method "$method" --output-rate 0 --output "$out/est-$method.csv" --quiet
+  "$bin/app/headingd" replay --no-dds "$data/imu.csv" --method "$method" --output-rate 0 --output "$out/est-$method.csv" --quiet
   args+=("$method=$out/est-$method.csv")
 done
 "$bin/bench/broad_heading_error" "$data/truth.csv" "$data/imu.csv" "${args[@]}"

@@ -15,8 +15,8 @@
 
 #include "core/attitude_integrator.hpp"
 #include "core/units.hpp"
-#include "drivers/csv_replay.hpp"
-#include "drivers/text_fields.hpp"
+#include "io/csv_replay.hpp"
+#include "io/text_fields.hpp"
 
 using namespace headingd;
 using Quat = Eigen::Quaterniond;

@@ -6,7 +6,7 @@ set -euo pipefail
 source "$(dirname "$0")/../scripts/lib.sh"
 ensure_packages "${HEADINGD_PACKAGES[@]}" time
 build_preset default quiet
-headingd="$HEADINGD_ROOT/build/default/daemon/headingd"
+headingd="$HEADINGD_ROOT/build/default/app/headingd"
 dir="$(mktemp -d)"
 trap 'rm -rf "$dir"' EXIT
 printf '[dds]\ndomain_id = 48\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$HEADINGD_ROOT" >"$dir/cfg.toml"

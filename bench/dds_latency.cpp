@@ -20,11 +20,13 @@
 #include <vector>
 
 #include "core/estimator.hpp"
-#include "daemon/dds_node.hpp"
-#include "daemon/dds_participant.hpp"
-#include "drivers/gyro_simulator.hpp"
+#include "dds/dds_node.hpp"
+#include "dds/dds_participant.hpp"
 #include "headingdPubSubTypes.h"
 #include "machine.hpp"
+#include "pipeline/dds_sink.hpp"
+#include "pipeline/pipeline.hpp"
+#include "sim/simulated_source.hpp"
 
 using namespace headingd;
 using namespace eprosima::fastdds::dds;
@@ -99,20 +101,16 @@ int main(int argc, char** argv) {
   {
     app::DdsNode node(settings);
     node.wait_for_subscribers(10.0);
-    core::Estimator estimator;
-    drivers::GyroSimulator sim(*drivers::build_scenario("agv", 1, kSeconds / 3600.0), 1);
-    core::Sample sample;
-    drivers::TruthPoint truth;
-    app::StatusReport report;
+    // The daemon's own pipeline, the simulator paced at 400 Hz, each message stamped "now".
+    drivers::SimulatedSource source(*drivers::build_scenario("agv", 1, kSeconds / 3600.0), 1);
+    pipeline::PipelineOptions options;
+    options.pacer.emplace(1.0, nullptr);
+    pipeline::Pipeline line(source, std::make_unique<core::Estimator>(), std::move(options));
+    pipeline::DdsSink publisher(node, source, pipeline::StampClock::EachSample);
+    line.add_sink(publisher);
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = cpu_s();
-    for (std::uint64_t i = 0; !sim.done(); ++i) {
-      std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                std::chrono::duration<double>(static_cast<double>(i) / kRateHz)));
-      sim.step(sample, truth);
-      const double offset = app::wall_now_s() - sample.t_s;  // stamp = now: latency from here on
-      node.publish(estimator.update(sample), estimator, report, offset);
-    }
+    line.run();
     cpu = cpu_s() - cpu_start;
     wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     sent = node.orientation_sent();

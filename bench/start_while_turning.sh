@@ -6,7 +6,7 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 source "$here/../scripts/lib.sh"
 build_preset default quiet
-headingd="$HEADINGD_ROOT/build/default/daemon/headingd"
+headingd="$HEADINGD_ROOT/build/default/app/headingd"
 out="$HEADINGD_ROOT/build/bench/start-while-turning"
 mkdir -p "$out"
 "$headingd" simulate --scenario agv --seed 1 --output-dir "$out/full" 2>/dev/null

@@ -7,6 +7,6 @@ ensure_packages "${HEADINGD_PACKAGES[@]}"
 build_preset default quiet
 bin="$HEADINGD_ROOT/build/default"
 data="$HEADINGD_ROOT/build/bench/paper12h-s1"
-[ -f "$data/imu.csv" ] || "$bin/daemon/headingd" simulate --scenario paper12h --seed 1 --output-dir "$data"
+[ -f "$data/imu.csv" ] || "$bin/app/headingd" simulate --scenario paper12h --seed 1 --output-dir "$data"
 echo "file: $(grep -vc '^#' "$data/imu.csv") lines, $(du -h "$data/imu.csv" | cut -f1)"
 "$bin/bench/replay_throughput" "$data/imu.csv"

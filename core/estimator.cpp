@@ -62,6 +62,54 @@ Vec3 Estimator::sigma_still_dps() const {
 
 bool Estimator::in_startup() const { return last().in_startup; }
 
+Diagnostics Estimator::diagnostics() const {
+  Diagnostics d;
+  d.method = settings_.method;
+  d.in_startup = in_startup();
+  d.samples = samples_;
+  d.accepted_segments = accepted_segments();
+  d.rejected_segments = rejected_segments();
+  d.segment_s = settings_.segments.segment_s;
+  d.sigma_still_dps = sigma_still_dps();
+  if (const auto* a = std::get_if<AutoEstimator>(&impl_)) {
+    d.retracted_segments = a->retracted_segments();
+    d.bias_recoveries = a->bias_recoveries();
+    d.noise_density_dps_rt_hz = a->noise_density_dps_rt_hz();
+    d.last_still_t_s = a->last_still_t_s();
+    for (int axis = 0; axis < 3; ++axis) {
+      const TemperatureModel& model = a->temperature_model(axis);
+      d.temperature[static_cast<std::size_t>(axis)] = {model.ready(), model.slope_dps_per_c(25.0),
+                                                       model.weighted_span_c(), model.points()};
+    }
+  }
+  return d;
+}
+
+LearnedState Estimator::learned() const {
+  LearnedState state;
+  state.bias_dps = last().bias_dps;
+  state.bias_sigma_dps = last().bias_sigma_dps;
+  if (const auto* a = std::get_if<AutoEstimator>(&impl_)) {
+    state.sigma_still_dps = a->sigma_still_dps();
+    state.arw_dps_rt_hz = a->noise_density_dps_rt_hz();
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      state.temperature_sums[axis] = a->temperature_model(static_cast<int>(axis)).sums();
+      state.temperature_points[axis] = a->temperature_model(static_cast<int>(axis)).points();
+    }
+  }
+  return state;
+}
+
+void Estimator::restore(const LearnedState& state) {
+  restore_bias(state.bias_dps, state.bias_sigma_dps);
+  if (auto* a = std::get_if<AutoEstimator>(&impl_)) {
+    a->set_noise(state.sigma_still_dps, state.arw_dps_rt_hz);
+    for (std::size_t axis = 0; axis < 3; ++axis)
+      a->restore_temperature_model(static_cast<int>(axis), state.temperature_sums[axis],
+                                   state.temperature_points[axis]);
+  }
+}
+
 void Estimator::set_motion_hint(MotionHint hint) {
   if (auto* a = std::get_if<AutoEstimator>(&impl_)) a->set_motion_hint(hint);
 }

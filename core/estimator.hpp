@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "core/auto_estimator.hpp"
+#include "core/diagnostics.hpp"
 #include "core/paper_estimator.hpp"
 
 namespace headingd::core {
@@ -36,6 +37,12 @@ class Estimator {
   std::uint64_t rejected_segments() const;
   Vec3 sigma_still_dps() const;
   bool in_startup() const;
+
+  // Everything a sink may want to report, as one value.
+  Diagnostics diagnostics() const;
+  // What a restart should start from (the state file), and taking it back.
+  LearnedState learned() const;
+  void restore(const LearnedState& state);
 
   void set_motion_hint(MotionHint hint);
   // Restores a bias with its sigma (after a restart): no calibration stop needed.

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <string>
 
-#include "daemon/command_validator.hpp"
+#include "dds/command_validator.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t size) {
   headingd::app::CommandIn command;

@@ -1,7 +1,7 @@
 // libFuzzer target: the TOML configuration parser and its validation.
 #include <string_view>
 
-#include "daemon/config_file.hpp"
+#include "service/config_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t size) {
   try {

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "drivers/csv_replay.hpp"
+#include "io/csv_replay.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t size) {
   std::vector<unsigned char> copy(data, data + size);  // fmemopen wants a writable buffer

@@ -6,7 +6,7 @@ source "$(dirname "$0")/lib.sh"
 ensure_packages "${HEADINGD_PACKAGES[@]}"
 build_preset default quiet
 
-headingd="$HEADINGD_ROOT/build/default/daemon/headingd"
+headingd="$HEADINGD_ROOT/build/default/app/headingd"
 recording="$HEADINGD_ROOT/data/agv-demo"
 out="$HEADINGD_ROOT/build/demo"
 mkdir -p "$out"

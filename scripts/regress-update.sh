@@ -5,7 +5,7 @@
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
 build_preset default quiet
-headingd="$HEADINGD_ROOT/build/default/daemon/headingd"
+headingd="$HEADINGD_ROOT/build/default/app/headingd"
 data="$HEADINGD_ROOT/tests/data"
 for method in a b c auto; do
   "$headingd" replay --no-dds "$data/agv-1min/imu.csv" --method "$method" --output "$data/agv-1min/expected-$method.csv" --quiet

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "daemon/command_validator.hpp"
+#include "dds/command_validator.hpp"
 
 using namespace headingd::app;
 

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "daemon/config_file.hpp"
+#include "service/config_file.hpp"
 #include "temp_dir.hpp"
 
 using headingd::app::ConfigError;

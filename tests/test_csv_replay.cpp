@@ -3,7 +3,7 @@
 #include <cmath>
 #include <vector>
 
-#include "drivers/csv_replay.hpp"
+#include "io/csv_replay.hpp"
 #include "temp_dir.hpp"
 
 using headingd::core::Sample;

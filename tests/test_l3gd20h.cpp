@@ -7,9 +7,9 @@
 #include <cmath>
 #include <vector>
 
-#include "drivers/l3gd20h.hpp"
-#include "drivers/l3gd20h_registers.hpp"
-#include "drivers/l3gd20h_sim.hpp"
+#include "hw/l3gd20h.hpp"
+#include "hw/l3gd20h_registers.hpp"
+#include "sim/l3gd20h_sim.hpp"
 
 using namespace headingd::drivers;
 using headingd::core::Sample;

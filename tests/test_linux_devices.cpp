@@ -10,8 +10,8 @@
 #include <fstream>
 #include <functional>
 
-#include "drivers/gpiod_data_ready.hpp"
-#include "drivers/linux_i2c_bus.hpp"
+#include "hw/gpiod_data_ready.hpp"
+#include "hw/linux_i2c_bus.hpp"
 #include "temp_dir.hpp"
 
 using namespace headingd::drivers;

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "daemon/message_format.hpp"
-#include "daemon/message_line.hpp"
+#include "dds/message_format.hpp"
+#include "dds/message_line.hpp"
 
 using headingd::app::line_for;
 using headingd::app::MessageLine;

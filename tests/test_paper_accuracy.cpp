@@ -5,7 +5,7 @@
 
 #include "core/estimator.hpp"
 #include "core/heading_metrics.hpp"
-#include "drivers/gyro_simulator.hpp"
+#include "sim/gyro_simulator.hpp"
 
 using namespace headingd;
 

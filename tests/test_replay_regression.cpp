@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "daemon/replay_command.hpp"
-#include "drivers/text_fields.hpp"
+#include "app/replay_command.hpp"
+#include "io/text_fields.hpp"
 #include "temp_dir.hpp"
 
 using headingd::test::TempDir;

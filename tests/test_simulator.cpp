@@ -4,7 +4,7 @@
 
 #include "core/segment_stats.hpp"
 #include "core/units.hpp"
-#include "drivers/gyro_simulator.hpp"
+#include "sim/gyro_simulator.hpp"
 
 using namespace headingd;
 

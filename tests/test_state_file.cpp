@@ -4,7 +4,7 @@
 #include <fstream>
 #include <limits>
 
-#include "daemon/state_file.hpp"
+#include "io/state_file.hpp"
 #include "temp_dir.hpp"
 
 using namespace headingd::app;

@@ -22,11 +22,13 @@
 #include <thread>
 #include <vector>
 
+#include "app/live_source.hpp"
 #include "core/estimator.hpp"
-#include "daemon/dds_node.hpp"
-#include "daemon/dds_participant.hpp"
-#include "daemon/live_source.hpp"
+#include "dds/dds_node.hpp"
+#include "dds/dds_participant.hpp"
 #include "headingdPubSubTypes.h"
+#include "pipeline/dds_sink.hpp"
+#include "pipeline/pipeline.hpp"
 
 using namespace headingd;
 
@@ -57,6 +59,82 @@ void churn(const app::DdsSettings& settings, const std::atomic<bool>& done, std:
     ++cycles;
   }
 }
+
+struct Injected {
+  std::uint64_t nack_transactions = 0, timeout_transactions = 0, resets = 0, stalls = 0, stucks = 0;
+};
+
+// Injects a random fault every 30-120 simulated seconds and watches the heading and memory.
+class FaultsAndChecks final : public pipeline::Sink {
+ public:
+  FaultsAndChecks(drivers::L3gd20hSimulator& sim, std::uint64_t seed, double end_s)
+      : sim_(sim), rng_(seed), end_s_(end_s) {}
+
+  void add(const core::Sample& sample, const core::Estimate& e, const core::Estimator& /*estimator*/) override {
+    if (std::isnan(first_t_)) first_t_ = sample.t_s;
+    t_ = sample.t_s;
+    max_step = std::max(max_step, std::abs(e.heading_deg - previous_heading_));
+    max_abs = std::max(max_abs, std::abs(e.heading_deg));
+    previous_heading_ = e.heading_deg;
+  }
+
+  void batch_done(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) override {
+    const double elapsed = t_ - first_t_;
+    if (elapsed >= next_fault_s_) {
+      next_fault_s_ = elapsed + gap_s_(rng_);
+      inject();
+    }
+    if (rss_after_warmup < 0 && elapsed > 0.1 * end_s_) rss_after_warmup = rss_kb();
+    rss_max = std::max(rss_max, rss_kb());
+    if (elapsed > (progress_ + 1) * 3600.0) {
+      ++progress_;
+      std::printf("  %2d h simulated: heading %+.3f deg, RSS %ld kB\n", progress_, previous_heading_, rss_kb());
+      std::fflush(stdout);
+    }
+  }
+
+  Injected injected;
+  double max_step = 0.0, max_abs = 0.0;
+  long rss_after_warmup = -1, rss_max = 0;
+
+ private:
+  void inject() {
+    switch (kind_(rng_)) {
+      case 0: {
+        const int count = nacks_(rng_);  // within the retries
+        sim_.inject_nack(count);
+        injected.nack_transactions += static_cast<std::uint64_t>(count);
+        break;
+      }
+      case 1:
+        sim_.inject_timeout(6);  // past the retries: the chip is set up again
+        injected.timeout_transactions += 6;
+        break;
+      case 2:
+        sim_.inject_reset();
+        ++injected.resets;
+        break;
+      case 3:
+        sim_.inject_stall(200'000'000);
+        ++injected.stalls;
+        break;
+      default:
+        sim_.inject_stuck(3'000'000'000);
+        ++injected.stucks;
+        break;
+    }
+  }
+
+  drivers::L3gd20hSimulator& sim_;
+  std::mt19937_64 rng_;
+  std::uniform_real_distribution<double> gap_s_{30.0, 120.0};
+  std::uniform_int_distribution<int> kind_{0, 4}, nacks_{1, 3};
+  double end_s_;
+  double next_fault_s_ = 60.0;
+  double first_t_ = NAN, t_ = 0.0;
+  double previous_heading_ = 0.0;
+  int progress_ = 0;
+};
 
 }  // namespace
 
@@ -103,8 +181,6 @@ int main(int argc, char** argv) {
   app::LiveSource source(sensor);
   auto& driver = source.driver();
   driver.set_logger([](int, const std::string&, const std::string&) {});  // counted, not printed
-  auto* sim = source.simulator();
-  core::Estimator estimator;
   std::unique_ptr<app::DdsNode> node;
   std::atomic<bool> done{false};
   std::atomic<int> churn_cycles{0};
@@ -114,72 +190,21 @@ int main(int argc, char** argv) {
     churner = std::thread(churn, std::cref(settings), std::cref(done), std::ref(churn_cycles));
   }
 
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> gap_s(30.0, 120.0);
-  std::uniform_int_distribution<int> kind(0, 4), nacks(1, 3);
-  struct Injected {
-    std::uint64_t nack_transactions = 0, timeout_transactions = 0, resets = 0, stalls = 0, stucks = 0;
-  } injected;
-
-  const double end_s = hours * 3600.0;
-  double next_fault_s = 60.0;
-  double previous_heading = 0.0, max_step = 0.0, max_abs = 0.0;
-  long rss_after_warmup = -1, rss_max = 0;
-  std::vector<core::Sample> batch(64);
-  double t = 0.0, first_t = NAN;
-  app::StatusReport report;
-  int progress = 0;
-  while (t - (std::isnan(first_t) ? 0.0 : first_t) < end_s) {
-    const std::size_t n = driver.read(batch);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (std::isnan(first_t)) first_t = batch[i].t_s;
-      const auto& e = estimator.update(batch[i]);
-      max_step = std::max(max_step, std::abs(e.heading_deg - previous_heading));
-      max_abs = std::max(max_abs, std::abs(e.heading_deg));
-      previous_heading = e.heading_deg;
-      if (node) node->publish(e, estimator, report, 0.0);
-    }
-    t = batch[n - 1].t_s;
-    const double elapsed = t - first_t;
-    if (elapsed >= next_fault_s) {
-      next_fault_s = elapsed + gap_s(rng);
-      switch (kind(rng)) {
-        case 0: {
-          const int count = nacks(rng);  // within the retries
-          sim->inject_nack(count);
-          injected.nack_transactions += static_cast<std::uint64_t>(count);
-          break;
-        }
-        case 1:
-          sim->inject_timeout(6);  // past the retries: the chip is set up again
-          injected.timeout_transactions += 6;
-          break;
-        case 2:
-          sim->inject_reset();
-          ++injected.resets;
-          break;
-        case 3:
-          sim->inject_stall(200'000'000);
-          ++injected.stalls;
-          break;
-        default:
-          sim->inject_stuck(3'000'000'000);
-          ++injected.stucks;
-          break;
-      }
-    }
-    if (rss_after_warmup < 0 && elapsed > 0.1 * end_s) rss_after_warmup = rss_kb();
-    rss_max = std::max(rss_max, rss_kb());
-    if (elapsed > (progress + 1) * 3600.0) {
-      ++progress;
-      std::printf("  %2d h simulated: heading %+.3f deg, RSS %ld kB\n", progress, previous_heading, rss_kb());
-      std::fflush(stdout);
-    }
-  }
+  pipeline::PipelineOptions options;
+  options.duration_s = hours * 3600.0;
+  pipeline::Pipeline line(driver, std::make_unique<core::Estimator>(), std::move(options));
+  FaultsAndChecks checks(*source.simulator(), seed, hours * 3600.0);
+  line.add_sink(checks);
+  std::optional<pipeline::DdsSink> publisher;
+  if (node) line.add_sink(publisher.emplace(*node, driver, pipeline::StampClock::FirstSample));
+  const pipeline::Outcome outcome = line.run();
   done = true;
   if (churner.joinable()) churner.join();
   const long rss_end = rss_kb();
   node.reset();
+  const Injected& injected = checks.injected;
+  const double max_step = checks.max_step, max_abs = checks.max_abs;
+  const long rss_after_warmup = checks.rss_after_warmup, rss_max = checks.rss_max;
 
   const auto& c = driver.counters();
   std::printf("soak: %.1f simulated hours, %llu samples, %d subscriber join/leave cycles\n", hours,
@@ -219,6 +244,7 @@ int main(int argc, char** argv) {
   check(rss_max - rss_after_warmup < 1024, "RSS growth under 1 MB after warm-up");
 #endif
   check(max_step < 0.5, "heading continuous across faults");
+  check(outcome.ending == pipeline::Ending::Duration, "ran its full length");
   std::printf("%s\n", ok ? "soak: all checks passed" : "soak: FAILED");
   return ok ? 0 : 1;
 }

@@ -1,0 +1,174 @@
+#include "app/job.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "app/summary.hpp"
+#include "dds/dds_node.hpp"
+#include "io/csv_out.hpp"
+#include "pipeline/dds_sink.hpp"
+#include "pipeline/estimates_sink.hpp"
+#include "pipeline/pipeline.hpp"
+#include "pipeline/recording_sink.hpp"
+#include "pipeline/service_sink.hpp"
+#include "pipeline/state_sink.hpp"
+#include "service/config_file.hpp"
+#include "service/exit_codes.hpp"
+#include "service/log.hpp"
+#include "service/notify.hpp"
+#include "service/signals.hpp"
+
+namespace headingd::app {
+namespace {
+
+int exit_code(pipeline::Ending ending) {
+  switch (ending) {
+    case pipeline::Ending::EndOfInput:
+    case pipeline::Ending::Duration:
+    case pipeline::Ending::Signal:
+      return kExitOk;
+    case pipeline::Ending::BadInput:
+      return kExitDataError;
+    case pipeline::Ending::SourceFailed:
+      return kExitIoError;
+    case pipeline::Ending::OutputFailed:
+      return kExitCantCreate;
+  }
+  return kExitSoftware;
+}
+
+// SIGHUP: new estimator settings and log level; heading, bias, noise figures and the
+// temperature model carry over, so nothing learned is lost. Null: keep the running one.
+std::unique_ptr<core::Estimator> reload(const JobOptions& options, const core::Estimator& running) {
+  if (!options.config_path) {
+    log(LogPriority::Notice, "reload", "SIGHUP: no configuration file to reload");
+    return nullptr;
+  }
+  Config config;
+  try {
+    config = load_config(*options.config_path);
+  } catch (const ConfigError& error) {
+    log(LogPriority::Error, "reload", std::string("SIGHUP: ") + error.what() + "; keeping the running configuration");
+    return nullptr;
+  }
+  core::EstimatorSettings settings = config.estimator;
+  if (options.method) settings.method = running.method();  // the command line still wins
+  const double heading_deg = running.last().heading_deg;
+  const double sigma_deg = running.last().heading_sigma_deg;
+  auto next = std::make_unique<core::Estimator>(settings);
+  core::LearnedState kept = running.learned();
+  if (!kept.bias_sigma_dps.allFinite()) kept.bias_sigma_dps = core::Vec3::Constant(0.01);
+  next->restore(kept);
+  next->set_heading(heading_deg, std::isfinite(sigma_deg) ? sigma_deg * sigma_deg : 0.0);
+  LogPriority level;
+  if (parse_log_level(config.log_level, level)) set_log_level(level);
+  log(LogPriority::Notice, "reload",
+      "SIGHUP: configuration reloaded from " + *options.config_path + " (method " +
+          std::string(core::method_name(settings.method)) + ", log level " + config.log_level +
+          "); heading and bias kept");
+  return next;
+}
+
+void linger(double seconds) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (!stop_requested() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+}
+
+}  // namespace
+
+int run_job(core::SampleSource& source, const JobOptions& options) {
+  // Start-up, in order. Each part is an object declared after the ones it needs, so leaving
+  // this function takes them down in reverse; the pipeline finishes its sinks the same way.
+  install_stop_signals();
+  Notifier notifier;
+  auto estimator = std::make_unique<core::Estimator>(options.settings);
+  if (options.state_path) pipeline::restore_state(*estimator, *options.state_path);
+
+  std::unique_ptr<DdsNode> node;
+  if (options.publish) {
+    try {
+      node = std::make_unique<DdsNode>(options.dds);
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "headingd: DDS: %s\n", error.what());
+      return kExitSoftware;
+    }
+    if (options.wait_subscribers_s > 0 && !node->wait_for_subscribers(options.wait_subscribers_s)) {
+      std::fprintf(stderr, "headingd: no orientation subscriber within %.1f s; publishing anyway\n",
+                   options.wait_subscribers_s);
+    }
+  }
+
+  pipeline::PipelineOptions pipeline_options;
+  pipeline_options.batch = options.batch;
+  pipeline_options.duration_s = options.duration_s;
+  pipeline_options.stop = &stop_flag();
+  if (options.speed_factor > 0) pipeline_options.pacer.emplace(options.speed_factor, &stop_flag());
+  pipeline::Pipeline pipeline(source, std::move(estimator), std::move(pipeline_options));
+
+  std::optional<pipeline::RecordingSink> recording;
+  std::optional<pipeline::EstimatesSink> estimates;
+  try {
+    if (options.record_path) pipeline.add_sink(recording.emplace(*options.record_path, options.record_comments));
+    if (options.output) {
+      pipeline.add_sink(estimates.emplace(*options.output, options.output_rate_hz, source.nominal_rate_hz(),
+                                          options.settings.segments.segment_s));
+    }
+  } catch (const OutputError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitCantCreate;
+  }
+  std::optional<pipeline::DdsSink> dds;
+  if (node) {
+    const auto clock = source.health().live || options.speed_factor > 0 ? pipeline::StampClock::FirstSample
+                                                                        : pipeline::StampClock::EachSample;
+    pipeline.add_sink(dds.emplace(*node, source, clock));
+    pipeline.set_inbox(&*dds);
+  }
+  std::optional<pipeline::StateSink> state;
+  if (options.state_path) pipeline.add_sink(state.emplace(*options.state_path, options.state_save_interval_s));
+  pipeline::ServiceSink service(notifier);
+  pipeline.add_sink(service);
+  pipeline.set_reloader([&options](const core::Estimator& running) { return reload(options, running); });
+
+  const auto started = std::chrono::steady_clock::now();
+  const pipeline::Outcome outcome = pipeline.run();
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  if (!outcome.error.empty()) std::fprintf(stderr, "headingd: %s\n", outcome.error.c_str());
+  if (outcome.ending == pipeline::Ending::BadInput)
+    std::fprintf(stderr, "headingd: stopped there; estimates up to the previous sample are kept\n");
+  if (node) {
+    // Late subscribers still get the latest GyroBias and Status (transient-local) meanwhile.
+    linger(options.linger_s);
+    if (!options.quiet) {
+      std::fprintf(stderr, "headingd %s: published %llu orientation messages; commands %llu accepted, %llu refused\n",
+                   options.command.c_str(), static_cast<unsigned long long>(node->orientation_sent()),
+                   static_cast<unsigned long long>(node->commands_accepted()),
+                   static_cast<unsigned long long>(node->commands_rejected()));
+    }
+    node.reset();  // deletes the participant: no shared-memory files left behind
+  }
+  if (!options.quiet && outcome.samples > 0) {
+    Summary summary;
+    summary.command = options.command;
+    summary.ending = pipeline::ending_name(outcome.ending);
+    summary.samples = outcome.samples;
+    summary.first_t_s = outcome.first_t_s;
+    summary.last_t_s = outcome.last_t_s;
+    summary.wall_s = wall_s;
+    if (estimates) {
+      summary.output = estimates->path();
+      summary.rows = estimates->rows_written();
+    }
+    if (recording) summary.recording = recording->path();
+    print_summary(summary, source, pipeline.estimator());
+  }
+  return exit_code(outcome.ending);
+}
+
+}  // namespace headingd::app

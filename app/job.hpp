@@ -1,0 +1,40 @@
+#pragma once
+// What `run`, `replay` and `record` share once their source is open: the pipeline with its
+// sinks, built in start-up order, run, taken down in reverse, summarised. The commands differ
+// only in the source they open and the defaults they give these options.
+#include <optional>
+#include <string>
+
+#include "core/estimator.hpp"
+#include "core/sample_source.hpp"
+#include "dds/dds_settings.hpp"
+
+namespace headingd::app {
+
+struct JobOptions {
+  std::string command;  // names the summary: "run", "replay", "record"
+  core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
+  std::optional<std::string> output;  // estimates CSV ("-": standard output)
+  double output_rate_hz = 10.0;
+  std::optional<std::string> record_path;  // native CSV of the samples
+  std::string record_comments;             // its '#' provenance lines
+  std::optional<std::string> state_path;
+  double state_save_interval_s = 60.0;
+  bool publish = false;  // DDS
+  DdsSettings dds;
+  double speed_factor = 0.0;  // recordings: 0 as fast as possible, else a factor of real time
+  std::size_t batch = 64;
+  double duration_s = 0.0;          // 0: to the end, or a signal
+  double wait_subscribers_s = 0.0;  // before the first sample
+  double linger_s = 0.0;            // after the last
+  bool quiet = false;               // no summary
+  // SIGHUP reloads this file (estimator settings and log level); the method option still wins.
+  std::optional<std::string> config_path;
+  std::optional<std::string> method;
+};
+
+// Runs the job to its end; returns the process exit code (0 also after a signal; 65 bad input,
+// 73 output failure, 74 a dead sensor, 70 DDS could not start).
+int run_job(core::SampleSource& source, const JobOptions& options);
+
+}  // namespace headingd::app

@@ -1,0 +1,75 @@
+#include "app/live_source.hpp"
+
+#include <cstdio>
+
+#include "hw/gpiod_data_ready.hpp"
+#include "hw/linux_i2c_bus.hpp"
+
+namespace headingd::app {
+
+LiveSource::LiveSource(const SensorOptions& options) : options_(options) {
+  drivers::L3gd20hSettings settings;
+  settings.address = static_cast<std::uint8_t>(options.address);
+  settings.rate_hz = options.rate_hz;
+  settings.bandwidth = options.bandwidth;
+  settings.full_scale_dps = options.full_scale_dps;
+  settings.watermark = options.watermark;
+  settings.int2_active_low = options.int2_active_low;
+  if (const auto problem = drivers::validate(settings)) throw std::runtime_error("sensor settings: " + *problem);
+
+  drivers::I2cBus* bus = nullptr;
+  drivers::DataReady* ready = nullptr;
+  if (options.simulated_chip) {
+    drivers::L3gd20hSimSettings sim;
+    sim.address = settings.address;
+    sim.rate_error = options.sim_rate_error;
+    simulator_ = std::make_unique<drivers::L3gd20hSimulator>(sim, *options.simulated_chip, options.sim_seed);
+    simulator_->set_realtime(options.sim_realtime);
+    if (options.sim_dead_after_s >= 0)
+      simulator_->inject_dead_after(static_cast<std::int64_t>(options.sim_dead_after_s * 1e9));
+    bus = simulator_.get();
+    ready = simulator_.get();
+  } else {
+    bus_ = std::make_unique<drivers::LinuxI2cBus>(options.bus);
+    if (options.gpio_chip) {
+      drivers::GpioLineSettings line;
+      line.chip = *options.gpio_chip;
+      line.offset = options.gpio_line;
+      line.falling_edge = options.int2_active_low;
+      ready_ = std::make_unique<drivers::GpiodDataReady>(line);
+    } else {
+      // No interrupt line: look at the FIFO a little faster than it reaches the watermark.
+      const double typical_hz = options.rate_hz * 0.947;
+      ready_ = std::make_unique<drivers::PollDataReady>(
+          std::chrono::nanoseconds(static_cast<std::int64_t>(0.5 * options.watermark / typical_hz * 1e9)));
+    }
+    bus = bus_.get();
+    ready = ready_.get();
+  }
+  driver_ = std::make_unique<drivers::L3gd20h>(*bus, *ready, settings);
+  driver_->start();
+}
+
+std::string LiveSource::header_comment() const {
+  char text[512];
+  std::snprintf(
+      text, sizeof text,
+      "# sensor: ST L3GD20H at 0x%02x on %s%s\n"
+      "# settings: ODR %d Hz nominal, bandwidth code %d, full scale +-%d dps (%.2f mdps/LSB), FIFO dynamic "
+      "stream, watermark %d, data-ready %s\n"
+      "# recorded by: headingd (record, or run --record); time_s is the driver's reconstructed monotonic time\n",
+      options_.address, options_.simulated_chip ? "the simulated bus" : options_.bus.c_str(),
+      options_.simulated_chip
+          ? (" (simulator, scenario " + *options_.simulated_chip + ", seed " + std::to_string(options_.sim_seed) + ")")
+                .c_str()
+          : "",
+      options_.rate_hz, options_.bandwidth, options_.full_scale_dps, driver_->sensitivity_dps() * 1000.0,
+      options_.watermark,
+      options_.simulated_chip
+          ? "simulated INT2"
+          : (options_.gpio_chip ? (*options_.gpio_chip + " line " + std::to_string(options_.gpio_line)).c_str()
+                                : "timed poll"));
+  return text;
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,154 @@
+// headingd: one binary, one subcommand per job. Each subcommand's work lives in its own
+// *_command.cpp; this file only parses the command line and dispatches.
+#include <CLI/CLI.hpp>
+
+#include "app/replay_command.hpp"
+#include "app/run_command.hpp"
+#include "core/version.hpp"
+#include "service/exit_codes.hpp"
+#include "tools/allan_command.hpp"
+#include "tools/echo_command.hpp"
+#include "tools/score_command.hpp"
+#include "tools/simulate_command.hpp"
+
+namespace app = headingd::app;
+
+namespace {
+
+void add_sensor_options(CLI::App* cmd, app::SensorOptions& s) {
+  cmd->add_option("--bus", s.bus, "I2C adapter device")->capture_default_str();
+  cmd->add_option("--address", s.address, "7-bit address: 0x6A (SA0 low) or 0x6B")->capture_default_str();
+  cmd->add_option("--rate", s.rate_hz, "Nominal output rate, Hz: 100, 200, 400, 800")->capture_default_str();
+  cmd->add_option("--bandwidth", s.bandwidth, "Bandwidth code 0..3 (at 400 Hz: 20, 25, 50, 110 Hz)")
+      ->capture_default_str();
+  cmd->add_option("--full-scale", s.full_scale_dps, "Full scale, dps: 245, 500, 2000")->capture_default_str();
+  cmd->add_option("--watermark", s.watermark, "FIFO watermark, samples (1..30)")->capture_default_str();
+  cmd->add_option("--gpio-chip", s.gpio_chip, "gpiochip of the DRDY/INT2 line (name, path or number); none: poll");
+  cmd->add_option("--gpio-line", s.gpio_line, "Line offset of DRDY/INT2 on that chip")->capture_default_str();
+  cmd->add_flag("--int2-active-low", s.int2_active_low, "DRDY/INT2 active low (falling edges)");
+  // Hidden: the register-level simulator in place of chip, bus and line.
+  cmd->add_option("--simulated-chip", s.simulated_chip)->group("");
+  cmd->add_option("--sim-seed", s.sim_seed)->group("");
+  cmd->add_option("--sim-rate-error", s.sim_rate_error)->group("");
+  cmd->add_flag("--sim-realtime", s.sim_realtime)->group("");
+  cmd->add_option("--sim-dead-after", s.sim_dead_after_s)->group("");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"headingd: gyro heading daemon for AGVs (L3GD20H, stationary-segment bias tracking)"};
+  cli.set_version_flag("--version", app::kVersion);
+  cli.require_subcommand(1);
+
+  app::ReplayOptions replay;
+  auto* replay_cmd = cli.add_subcommand("replay", "Replay a recorded IMU file through the estimator");
+  replay_cmd->add_option("input", replay.input, "Recording: headingd CSV or EuRoC/ASL imu.csv")->required();
+  replay_cmd->add_option("--method", replay.method, "Bias method: auto (default), or the paper's a, b, c");
+  replay_cmd->add_option("-o,--output", replay.output, "Estimates CSV ('-' = standard output)");
+  replay_cmd->add_option("--output-rate", replay.output_rate_hz, "Rows per second; 0 = every sample")
+      ->capture_default_str();
+  replay_cmd->add_option("-c,--config", replay.config_path, "TOML configuration file");
+  replay_cmd->add_flag("-q,--quiet", replay.quiet, "No summary on stderr");
+  replay.publish = true;
+  replay_cmd->add_flag("!--no-dds", replay.publish, "Do not publish over DDS (offline mode)");
+  replay_cmd->add_option("--speed", replay.speed, "max, realtime, or a factor of real time")->capture_default_str();
+  replay_cmd->add_option("--wait-subscribers", replay.wait_subscribers_s,
+                         "Wait up to this many seconds for an orientation subscriber before starting");
+  replay_cmd->add_option("--linger", replay.linger_s,
+                         "Stay this many seconds after the end (late joiners get the latest)");
+
+  app::SimulateOptions simulate;
+  auto* simulate_cmd = cli.add_subcommand("simulate", "Simulate a gyro recording with its truth");
+  simulate_cmd->add_option("--scenario", simulate.scenario, "paper12h, still, agv, creep or thermal")->required();
+  simulate_cmd->add_option("--seed", simulate.seed, "Random seed")->capture_default_str();
+  simulate_cmd->add_option("--output-dir", simulate.output_dir, "Directory for imu.csv and truth.csv")->required();
+  simulate_cmd->add_option("--hours", simulate.hours, "Length in hours (default: the scenario's own)");
+
+  app::ScoreOptions score;
+  auto* score_cmd = cli.add_subcommand("score", "Score an estimates CSV against a truth CSV (paper's metrics)");
+  score_cmd->add_option("estimates", score.estimates, "Estimates CSV from replay")->required();
+  score_cmd->add_option("truth", score.truth, "truth.csv from simulate")->required();
+  score_cmd->add_option("--label", score.label, "Row label")->capture_default_str();
+  score_cmd->add_option("--errors", score.errors_output, "Write time_h,error_deg at 1 Hz to this file");
+  score_cmd->add_flag("--header", score.header, "Print the table header first");
+
+  app::AllanOptions allan;
+  auto* allan_cmd = cli.add_subcommand("allan", "Allan deviation of a still recording; noise terms for the config");
+  allan_cmd->add_option("input", allan.input, "Recording: headingd CSV or EuRoC/ASL imu.csv")->required();
+  allan_cmd->add_option("--axis", allan.axis, "x, y, z or all")->capture_default_str();
+  allan_cmd->add_option("--plot", allan.plot_path, "Draw a log-log plot to this PNG (needs gnuplot)");
+  allan_cmd->add_flag("--emit-config", allan.emit_config, "Print the estimator settings as a TOML fragment");
+  allan_cmd->add_flag("--still-only", allan.still_only,
+                      "Use only the segments the auto estimator accepts as still (cuts out motion)");
+
+  app::RunOptions run;
+  auto* run_cmd = cli.add_subcommand("run", "Read the L3GD20H and estimate heading, live");
+  add_sensor_options(run_cmd, run.sensor);
+  run_cmd->add_option("-c,--config", run.config_path, "TOML configuration file");
+  run_cmd->add_option("--method", run.method, "Bias method: auto (default), or the paper's a, b, c");
+  run_cmd->add_option("-o,--output", run.output, "Estimates CSV ('-' = standard output)");
+  run_cmd->add_option("--output-rate", run.output_rate_hz, "Rows per second; 0 = every sample")->capture_default_str();
+  run_cmd->add_option("--record", run.record_path, "Also record the samples to this native CSV");
+  run_cmd->add_option("--duration", run.duration_s, "Stop after this many seconds (default: at SIGINT/SIGTERM)");
+  run_cmd->add_option("--state", run.state_path, "Persisted bias file (overrides [state] path)");
+  run_cmd->add_flag("!--no-dds", run.publish, "Do not publish over DDS");
+  run_cmd->add_option("--recording", run.recording, "Read this recording instead of the sensor (same pipeline)");
+  run_cmd->add_option("--speed", run.speed, "With --recording: max, realtime, or a factor of real time")
+      ->capture_default_str();
+
+  app::SensorOptions record_sensor;
+  std::string record_output;
+  double record_duration_s = 0.0;
+  auto* record_cmd = cli.add_subcommand("record", "Record what the L3GD20H delivers, as a CSV that replays");
+  add_sensor_options(record_cmd, record_sensor);
+  record_cmd->add_option("-o,--output", record_output, "Native CSV to write")->required();
+  record_cmd->add_option("--duration", record_duration_s, "Stop after this many seconds (default: at SIGINT/SIGTERM)");
+
+  app::EchoOptions echo;
+  auto* echo_cmd = cli.add_subcommand("echo", "Subscribe to headingd's topics and print one line per message");
+  echo_cmd->add_option("topics", echo.topics, "orientation, imu, bias, status, command (default: the first four)");
+  echo_cmd->add_flag("--json", echo.json, "One JSON object per line");
+  echo_cmd->add_option("--count", echo.count, "Exit after this many messages");
+  echo_cmd->add_option("--timeout", echo.timeout_s, "Exit after this many seconds");
+  echo_cmd->add_flag("--reliable", echo.reliable, "Reliable orientation/imu reader (needs orientation_reliable)");
+  echo_cmd->add_option("-c,--config", echo.config_path, "TOML configuration file (its [dds] section)");
+
+  app::CommandOptions command;
+  auto* command_cmd = cli.add_subcommand("command", "Send a HeadingCommand to a running headingd");
+  command_cmd->add_option("kind", command.kind, "set-heading, stopped, moving or clear")->required();
+  command_cmd->add_option("--heading-deg", command.heading_deg, "For set-heading: the heading, deg");
+  command_cmd->add_option("--variance-deg2", command.variance_deg2, "Its variance, deg^2 (0: exact)");
+  command_cmd->add_option("--heading-rad", command.heading_rad)->group("");  // raw, for tests
+  command_cmd->add_option("--stamp-offset", command.stamp_offset_s)->group("");
+  command_cmd->add_option("-c,--config", command.config_path, "TOML configuration file (its [dds] section)");
+  command_cmd->add_option("--wait", command.wait_s, "Seconds to wait for headingd to listen")->capture_default_str();
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::CallForHelp& help) {
+    return cli.exit(help);
+  } catch (const CLI::CallForAllHelp& help) {
+    return cli.exit(help);
+  } catch (const CLI::CallForVersion& version) {
+    return cli.exit(version);
+  } catch (const CLI::ParseError& error) {
+    cli.exit(error);
+    return app::kExitUsage;
+  }
+
+  if (replay_cmd->parsed()) return app::run_replay(replay);
+  if (simulate_cmd->parsed()) return app::run_simulate(simulate);
+  if (score_cmd->parsed()) return app::run_score(score);
+  if (allan_cmd->parsed()) return app::run_allan(allan);
+  if (run_cmd->parsed()) {
+    for (const auto* option : run_cmd->get_options())
+      if (option->count() > 0)
+        for (const auto& name : option->get_lnames()) run.sensor_given.insert("--" + name);
+    return app::run_live(run);
+  }
+  if (echo_cmd->parsed()) return app::run_echo(echo);
+  if (command_cmd->parsed()) return app::run_command(command);
+  if (record_cmd->parsed()) return app::run_record(record_sensor, record_output, record_duration_s);
+  return app::kExitUsage;
+}

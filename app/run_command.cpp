@@ -1,0 +1,137 @@
+#include "app/run_command.hpp"
+
+#include <cstdio>
+#include <memory>
+
+#include "app/job.hpp"
+#include "app/live_source.hpp"
+#include "io/csv_replay.hpp"
+#include "pipeline/estimates_sink.hpp"
+#include "pipeline/pacer.hpp"
+#include "service/config_file.hpp"
+#include "service/exit_codes.hpp"
+#include "service/log.hpp"
+#include "service/signals.hpp"
+
+namespace headingd::app {
+namespace {
+
+SensorOptions merged_sensor(const SensorOptions& file, const RunOptions& options) {
+  SensorOptions s = file;
+  const SensorOptions& cli = options.sensor;
+  const auto given = [&](const char* name) { return options.sensor_given.count(name) > 0; };
+  if (given("--bus")) s.bus = cli.bus;
+  if (given("--address")) s.address = cli.address;
+  if (given("--rate")) s.rate_hz = cli.rate_hz;
+  if (given("--bandwidth")) s.bandwidth = cli.bandwidth;
+  if (given("--full-scale")) s.full_scale_dps = cli.full_scale_dps;
+  if (given("--watermark")) s.watermark = cli.watermark;
+  if (given("--gpio-chip")) s.gpio_chip = cli.gpio_chip;
+  if (given("--gpio-line")) s.gpio_line = cli.gpio_line;
+  if (given("--int2-active-low")) s.int2_active_low = cli.int2_active_low;
+  s.simulated_chip = cli.simulated_chip;
+  s.sim_seed = cli.sim_seed;
+  s.sim_rate_error = cli.sim_rate_error;
+  s.sim_realtime = cli.sim_realtime;
+  s.sim_dead_after_s = cli.sim_dead_after_s;
+  return s;
+}
+
+// The sensor, with the driver's warnings going to our log and SIGTERM ending its waits.
+std::unique_ptr<LiveSource> open_sensor(const SensorOptions& sensor) {
+  try {
+    auto source = std::make_unique<LiveSource>(sensor);
+    source->driver().set_stop_flag(&stop_flag());
+    source->driver().set_logger([](int priority, const std::string& key, const std::string& text) {
+      log(static_cast<LogPriority>(priority), key, text);
+    });
+    return source;
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return nullptr;
+  }
+}
+
+// A recording standing in for the sensor: `run --recording FILE`.
+std::unique_ptr<drivers::CsvReplaySource> open_recording(const std::string& path, int& exit_code) {
+  try {
+    return std::make_unique<drivers::CsvReplaySource>(path);
+  } catch (const drivers::OpenError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    exit_code = kExitNoInput;
+  } catch (const drivers::InputError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    exit_code = kExitDataError;
+  }
+  return nullptr;
+}
+
+std::string comments_of(const drivers::CsvReplaySource& recording) {
+  std::string text;
+  for (const auto& line : recording.comments()) text += "#" + line + "\n";
+  return text;
+}
+
+}  // namespace
+
+int run_live(const RunOptions& options) {
+  Config config;
+  try {
+    if (options.config_path) config = load_config(*options.config_path);
+  } catch (const ConfigError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitConfig;
+  }
+  JobOptions job;
+  job.command = "run";
+  job.settings = config.estimator;
+  if (!apply_method_option(options.method, job.settings)) return kExitUsage;
+  if (const auto problem = pipeline::check_output_rate(options.output_rate_hz)) {
+    std::fprintf(stderr, "headingd: %s\n", problem->c_str());
+    return kExitUsage;
+  }
+  const auto speed = pipeline::parse_speed(options.speed);
+  if (!speed) {
+    std::fprintf(stderr, "headingd: --speed: '%s' is not max, realtime or a positive factor\n", options.speed.c_str());
+    return kExitUsage;
+  }
+  LogPriority level;
+  if (parse_log_level(config.log_level, level)) set_log_level(level);
+  job.output = options.output;
+  job.output_rate_hz = options.output_rate_hz;
+  job.record_path = options.record_path;
+  job.state_path = options.state_path ? options.state_path : config.state_path;
+  job.state_save_interval_s = config.state_save_interval_s;
+  job.publish = options.publish;
+  job.dds = config.dds;
+  job.duration_s = options.duration_s;
+  job.config_path = options.config_path;
+  job.method = options.method;
+
+  if (options.recording) {
+    int exit_code = kExitOk;
+    auto recording = open_recording(*options.recording, exit_code);
+    if (!recording) return exit_code;
+    job.speed_factor = *speed;
+    job.batch = 4096;
+    job.record_comments = comments_of(*recording);
+    return run_job(*recording, job);
+  }
+  auto sensor = open_sensor(merged_sensor(config.sensor, options));
+  if (!sensor) return kExitNoInput;
+  job.record_comments = sensor->header_comment();
+  return run_job(sensor->driver(), job);
+}
+
+int run_record(const SensorOptions& sensor_options, const std::string& output, double duration_s) {
+  auto sensor = open_sensor(sensor_options);
+  if (!sensor) return kExitNoInput;
+  JobOptions job;
+  job.command = "record";
+  job.record_path = output;
+  job.record_comments = sensor->header_comment();
+  job.duration_s = duration_s;
+  return run_job(sensor->driver(), job);
+}
+
+}  // namespace headingd::app

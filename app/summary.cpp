@@ -1,0 +1,65 @@
+#include "app/summary.hpp"
+
+#include <cstdio>
+
+namespace headingd::app {
+namespace {
+
+void print_estimator(const core::Estimator& estimator) {
+  const core::Diagnostics d = estimator.diagnostics();
+  std::fprintf(stderr, "  method       %s; segments up to %.1f s: %llu accepted as still, %llu rejected\n",
+               std::string(core::method_name(d.method)).c_str(), d.segment_s,
+               static_cast<unsigned long long>(d.accepted_segments),
+               static_cast<unsigned long long>(d.rejected_segments));
+  const core::Vec3& sigma = d.sigma_still_dps;
+  std::fprintf(stderr, "  sigma_still  x %.4f  y %.4f  z %.4f dps\n", sigma.x(), sigma.y(), sigma.z());
+  if (d.method == core::Method::Auto) {
+    const core::Vec3& n = d.noise_density_dps_rt_hz;
+    std::fprintf(stderr, "  noise        x %.4f  y %.4f  z %.4f dps/sqrt(Hz) (angle random walk)\n", n.x(), n.y(),
+                 n.z());
+    std::fprintf(stderr, "  creep        %llu accepted segments taken back when the next one showed a creep\n",
+                 static_cast<unsigned long long>(d.retracted_segments));
+    if (d.bias_recoveries > 0)
+      std::fprintf(stderr,
+                   "  recovered    the bias started again %llu times from a long quiet period it could not "
+                   "explain (a start-up while turning?)\n",
+                   static_cast<unsigned long long>(d.bias_recoveries));
+    const core::TemperatureModelState& model = d.temperature[2];
+    if (model.ready) {
+      std::fprintf(stderr, "  temperature  z bias slope %+.5f dps/C over a %.1f C span (%u segments)\n",
+                   model.slope_dps_per_c, model.weighted_span_c, model.points);
+    } else {
+      std::fprintf(stderr, "  temperature  model not in use yet (span %.1f C, %u segments)\n", model.weighted_span_c,
+                   model.points);
+    }
+  }
+  const core::Estimate& last = estimator.last();
+  const core::Vec3& bias = last.bias_dps;
+  std::fprintf(stderr, "  bias         x %+.4f  y %+.4f  z %+.4f dps\n", bias.x(), bias.y(), bias.z());
+  std::fprintf(stderr, "  heading      %+.3f deg at the end (unwrapped), sigma %.3f deg\n", last.heading_deg,
+               last.heading_sigma_deg);
+}
+
+}  // namespace
+
+void print_summary(const Summary& summary, const core::SampleSource& source, const core::Estimator& estimator) {
+  const double span_s = summary.last_t_s - summary.first_t_s;
+  const auto samples = static_cast<double>(summary.samples);
+  std::fprintf(stderr, "headingd %s: %s (%s)\n", summary.command.c_str(), source.describe().c_str(),
+               summary.ending.c_str());
+  std::fprintf(stderr, "  samples      %llu over %.1f s (%.1f Hz)\n", static_cast<unsigned long long>(summary.samples),
+               span_s, span_s > 0 ? (samples - 1.0) / span_s : 0.0);
+  if (const std::string counters = source.counters_text(); !counters.empty())
+    std::fprintf(stderr, "  sensor       %s\n", counters.c_str());
+  print_estimator(estimator);
+  if (summary.output) {
+    std::fprintf(stderr, "  estimates    %llu rows to %s\n", static_cast<unsigned long long>(summary.rows),
+                 *summary.output == "-" ? "standard output" : summary.output->c_str());
+  }
+  if (summary.recording) std::fprintf(stderr, "  recording    %s\n", summary.recording->c_str());
+  const double wall_s = summary.wall_s;
+  std::fprintf(stderr, "  speed        %.2f s wall, %.2f million samples/s, %.0fx real time\n", wall_s,
+               wall_s > 0 ? samples / wall_s / 1e6 : 0.0, wall_s > 0 ? span_s / wall_s : 0.0);
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,48 @@
+#pragma once
+// What the estimator tells the world besides the estimate itself, as one value (the idea of
+// x-io Fusion's GetInternalStates): sinks — DDS, summaries, the state saver — read this and
+// never the estimator's internals, so they do not depend on which method is in force.
+#include <array>
+#include <cstdint>
+#include <limits>
+
+#include "core/method.hpp"
+#include "core/sample.hpp"
+#include "core/temperature_model.hpp"
+
+namespace headingd::core {
+
+struct TemperatureModelState {
+  bool ready = false;            // the slope is in use
+  double slope_dps_per_c = 0.0;  // at 25 degC
+  double weighted_span_c = 0.0;  // spread of the points it rests on
+  std::uint32_t points = 0;      // accepted segments it has seen
+};
+
+struct Diagnostics {
+  Method method = Method::Auto;
+  bool in_startup = true;
+  std::uint64_t samples = 0;
+  std::uint64_t accepted_segments = 0;
+  std::uint64_t rejected_segments = 0;
+  std::uint64_t retracted_segments = 0;  // auto: accepted, then taken back (a creep)
+  std::uint64_t bias_recoveries = 0;     // auto: restarts from an unexplained quiet period
+  double segment_s = 0.0;                // the configured segment length
+  Vec3 sigma_still_dps = Vec3::Zero();   // per-sample noise while still; zero until measured
+  // Angle random walk per axis; zero where the method does not learn it (the paper's A/B/C).
+  Vec3 noise_density_dps_rt_hz = Vec3::Zero();
+  double last_still_t_s = std::numeric_limits<double>::quiet_NaN();  // end of the last accepted segment
+  std::array<TemperatureModelState, 3> temperature{};
+};
+
+// What survives a restart (the state file): the bias and what was learned about the sensor.
+struct LearnedState {
+  Vec3 bias_dps = Vec3::Zero();
+  Vec3 bias_sigma_dps = Vec3::Zero();
+  Vec3 sigma_still_dps = Vec3::Zero();  // zero when unknown
+  Vec3 arw_dps_rt_hz = Vec3::Zero();    // zero when unknown
+  std::array<TemperatureModel::Sums, 3> temperature_sums{};
+  std::array<std::uint32_t, 3> temperature_points{};
+};
+
+}  // namespace headingd::core

@@ -1,0 +1,274 @@
+#include "dds/dds_node.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+#include "core/units.hpp"
+#include "core/version.hpp"
+#include "dds/dds_participant.hpp"
+#include "dds/wire_method.hpp"
+#include "headingdPubSubTypes.h"
+#include "sensor_msgs_ImuPubSubTypes.h"
+
+namespace headingd::app {
+
+using namespace eprosima::fastdds::dds;
+
+namespace {
+
+template <typename Stamp>
+void set_stamp(Stamp& stamp, double t_s) {
+  const double whole = std::floor(t_s);
+  stamp.sec(static_cast<std::int32_t>(whole));
+  stamp.nanosec(static_cast<std::uint32_t>(std::min(999999999.0, std::round((t_s - whole) * 1e9))));
+}
+
+}  // namespace
+
+struct DdsNode::Impl : public DataReaderListener {
+  DomainParticipant* participant = nullptr;
+  Publisher* publisher = nullptr;
+  Subscriber* subscriber = nullptr;
+  DataWriter* orientation = nullptr;
+  DataWriter* imu = nullptr;
+  DataWriter* bias = nullptr;
+  DataWriter* status = nullptr;
+  DataReader* command = nullptr;
+  CommandLimits limits;
+  std::mutex mutex;
+  std::vector<ValidCommand> commands;
+  std::uint64_t accepted = 0, rejected = 0;
+
+  Topic* topic(const std::string& name, const TypeSupport& type) {
+    type.register_type(participant);
+    auto* t = participant->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);
+    if (t == nullptr) throw std::runtime_error("cannot create DDS topic " + name);
+    return t;
+  }
+
+  DataWriter* writer(Topic* t, DataWriterQos qos, const std::string& profile) {
+    DataWriterQos from_profile;
+    if (publisher->get_datawriter_qos_from_profile(profile, from_profile) == ReturnCode_t::RETCODE_OK)
+      qos = from_profile;
+    auto* w = publisher->create_datawriter(t, qos);
+    if (w == nullptr) throw std::runtime_error("cannot create a DDS writer for " + t->get_name());
+    return w;
+  }
+
+  void on_data_available(DataReader* reader) override {
+    headingd::msg::HeadingCommand message;
+    SampleInfo info;
+    while (reader->take_next_sample(&message, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      CommandIn in{message.stamp().sec(), message.stamp().nanosec(), static_cast<std::int32_t>(message.kind()),
+                   message.heading_rad(), message.heading_variance_rad2()};
+      std::string why;
+      const auto valid = validate_command(in, wall_now_s(), limits, why);
+      std::lock_guard lock(mutex);
+      if (valid) {
+        ++accepted;
+        commands.push_back(*valid);
+      } else {
+        ++rejected;
+        std::fprintf(stderr, "<4>headingd: HeadingCommand refused: %s\n", why.c_str());
+      }
+    }
+  }
+};
+
+DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()), settings_(settings) {
+  Impl& d = *impl_;
+  d.limits = settings.command_limits;
+  try {
+    d.participant = create_participant(settings, "headingd");
+    d.publisher = d.participant->create_publisher(PUBLISHER_QOS_DEFAULT);
+    d.subscriber = d.participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
+    if (d.publisher == nullptr || d.subscriber == nullptr)
+      throw std::runtime_error("cannot create DDS publisher/subscriber");
+
+    DataWriterQos stream = DATAWRITER_QOS_DEFAULT;  // orientation and Imu
+    stream.reliability().kind = settings.orientation_reliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
+    stream.durability().kind = VOLATILE_DURABILITY_QOS;
+    stream.history().kind = KEEP_LAST_HISTORY_QOS;
+    stream.history().depth = settings.orientation_reliable ? 100 : 1;
+    // A subscriber can ask to hear about it when messages stop: promise 3 periods at most.
+    stream.deadline().period = eprosima::fastrtps::Duration_t(3.0 / settings.orientation_rate_hz);
+
+    DataWriterQos latched = DATAWRITER_QOS_DEFAULT;  // bias and status: the latest for late joiners
+    latched.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    latched.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+    latched.history().kind = KEEP_LAST_HISTORY_QOS;
+    latched.history().depth = 1;
+
+    d.orientation =
+        d.writer(d.topic(topic_name(settings, "orientation"), TypeSupport(new headingd::msg::OrientationPubSubType())),
+                 stream, "headingd_orientation");
+    if (settings.publish_imu) {
+      d.imu = d.writer(d.topic("rt/" + settings.imu_topic, TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType())),
+                       stream, "headingd_imu");
+    }
+    d.bias = d.writer(d.topic(topic_name(settings, "bias"), TypeSupport(new headingd::msg::GyroBiasPubSubType())),
+                      latched, "headingd_bias");
+    d.status = d.writer(d.topic(topic_name(settings, "status"), TypeSupport(new headingd::msg::StatusPubSubType())),
+                        latched, "headingd_status");
+    DataReaderQos command_qos = DATAREADER_QOS_DEFAULT;
+    command_qos.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    command_qos.history().kind = KEEP_LAST_HISTORY_QOS;
+    command_qos.history().depth = 16;
+    d.command = d.subscriber->create_datareader(
+        d.topic(topic_name(settings, "command"), TypeSupport(new headingd::msg::HeadingCommandPubSubType())),
+        command_qos, &d);
+    if (d.command == nullptr) throw std::runtime_error("cannot create the HeadingCommand reader");
+  } catch (...) {
+    delete_participant(d.participant);
+    throw;
+  }
+}
+
+DdsNode::~DdsNode() { delete_participant(impl_->participant); }
+
+bool DdsNode::wait_for_subscribers(double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  PublicationMatchedStatus matched;
+  while (true) {
+    impl_->orientation->get_publication_matched_status(matched);
+    if (matched.current_count > 0) {
+      // The writer knows the reader; give the reader a moment to know the writer too, or the
+      // first messages may arrive before the reader accepts them.
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      return true;
+    }
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+void DdsNode::take_commands(std::vector<ValidCommand>& out) {
+  std::lock_guard lock(impl_->mutex);
+  out.insert(out.end(), impl_->commands.begin(), impl_->commands.end());
+  impl_->commands.clear();
+}
+
+std::uint64_t DdsNode::commands_accepted() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->accepted;
+}
+std::uint64_t DdsNode::commands_rejected() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->rejected;
+}
+
+bool DdsNode::due(const core::Estimate& e) {
+  if (e.closed.closed) last_verdict_still_ = e.closed.accepted;
+  const double t = e.t_s;
+  return t >= next_orientation_s_ || (t >= next_bias_s_ && !e.in_startup) || t >= next_status_s_;
+}
+
+void DdsNode::publish(const core::Estimate& e, const core::Diagnostics& diagnostics, const StatusReport& report,
+                      double wall_offset_s) {
+  Impl& d = *impl_;
+  const double t = e.t_s;
+  const double stamp_s = t + wall_offset_s;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (t >= next_orientation_s_) {
+    next_orientation_s_ = next_orientation_s_ < -1e299
+                              ? t + 1.0 / settings_.orientation_rate_hz
+                              : std::max(next_orientation_s_ + 1.0 / settings_.orientation_rate_hz, t);
+    const double heading_rad = core::deg_to_rad(e.heading_deg);
+    const double sigma_rad = core::deg_to_rad(e.heading_sigma_deg);
+    const core::Vec3 rate_rad = e.rate_dps * core::kRadPerDeg;
+    headingd::msg::Orientation o;
+    set_stamp(o.stamp(), stamp_s);
+    o.seq(++orientation_seq_);
+    o.heading_rad(heading_rad);
+    o.heading_variance_rad2(std::isfinite(sigma_rad) ? sigma_rad * sigma_rad : nan);
+    o.qw(e.attitude.w());
+    o.qx(e.attitude.x());
+    o.qy(e.attitude.y());
+    o.qz(e.attitude.z());
+    o.rate_x_rad_s(rate_rad.x());
+    o.rate_y_rad_s(rate_rad.y());
+    o.rate_z_rad_s(rate_rad.z());
+    o.still(e.in_startup || last_verdict_still_);
+    d.orientation->write(&o);
+    if (d.imu != nullptr) {
+      sensor_msgs::msg::dds_::Imu_ imu;
+      set_stamp(imu.header().stamp(), stamp_s);
+      imu.header().frame_id(settings_.frame_id);
+      imu.orientation().x(e.attitude.x());
+      imu.orientation().y(e.attitude.y());
+      imu.orientation().z(e.attitude.z());
+      imu.orientation().w(e.attitude.w());
+      // Only yaw is tracked with a variance; roll and pitch come from the gyro alone.
+      const double yaw_var = std::isfinite(sigma_rad) ? sigma_rad * sigma_rad : 1e6;
+      imu.orientation_covariance() = {1e6, 0, 0, 0, 1e6, 0, 0, 0, yaw_var};
+      imu.angular_velocity().x(rate_rad.x());
+      imu.angular_velocity().y(rate_rad.y());
+      imu.angular_velocity().z(rate_rad.z());
+      // One sample's rate: its own noise (sigma_still) plus the uncertainty of the bias taken
+      // off it. All zeros, ROS's "covariance unknown", until both are measured.
+      const core::Vec3 bias_sigma = e.bias_sigma_dps * core::kRadPerDeg;
+      const core::Vec3 sample_sigma = diagnostics.sigma_still_dps * core::kRadPerDeg;
+      imu.angular_velocity_covariance() = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+      if (bias_sigma.allFinite() && (sample_sigma.array() > 0.0).all()) {
+        for (int a = 0; a < 3; ++a)
+          imu.angular_velocity_covariance()[4 * static_cast<std::size_t>(a)] =
+              sample_sigma[a] * sample_sigma[a] + bias_sigma[a] * bias_sigma[a];
+      }
+      imu.linear_acceleration_covariance() = {-1, 0, 0, 0, 0, 0, 0, 0, 0};  // not provided
+      d.imu->write(&imu);
+    }
+  }
+  // No GyroBias before the start-up segment has measured one: a zero bias would read as known.
+  if (t >= next_bias_s_ && !e.in_startup) {
+    next_bias_s_ = t + 1.0;
+    headingd::msg::GyroBias b;
+    set_stamp(b.stamp(), stamp_s);
+    const core::Vec3 bias_rad = e.bias_dps * core::kRadPerDeg;
+    const core::Vec3 sigma_rad = e.bias_sigma_dps * core::kRadPerDeg;
+    b.bias_x_rad_s(bias_rad.x());
+    b.bias_y_rad_s(bias_rad.y());
+    b.bias_z_rad_s(bias_rad.z());
+    b.sigma_x_rad_s(sigma_rad.x());
+    b.sigma_y_rad_s(sigma_rad.y());
+    b.sigma_z_rad_s(sigma_rad.z());
+    b.temperature_c(e.temp_c);
+    const double last_still = diagnostics.last_still_t_s;
+    set_stamp(b.last_still(), std::isfinite(last_still) ? last_still + wall_offset_s : 0.0);
+    b.accepted_segments(diagnostics.accepted_segments);
+    b.rejected_segments(diagnostics.rejected_segments);
+    b.method(to_wire(diagnostics.method));
+    d.bias->write(&b);
+  }
+  if (t >= next_status_s_) {
+    next_status_s_ = t + 1.0;
+    headingd::msg::Status s;
+    set_stamp(s.stamp(), stamp_s);
+    s.state(static_cast<headingd::msg::SensorState>(static_cast<int>(report.state)));
+    s.sample_rate_hz(report.sample_rate_hz);
+    s.samples_received(report.samples_received);
+    s.samples_dropped(report.samples_dropped);
+    s.bus_errors(report.bus_errors);
+    s.fifo_overruns(report.fifo_overruns);
+    s.commands_accepted(commands_accepted());
+    s.commands_rejected(commands_rejected());
+    s.uptime_s(report.uptime_s);
+    s.version(kVersion);
+    d.status->write(&s);
+  }
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,44 @@
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dds/command_validator.hpp"
+
+namespace headingd::app {
+
+// DDS Security (Fast DDS's builtin plugins): authentication with a PKI, access control by
+// signed governance and permissions, encryption. File paths; all required when enabled.
+struct DdsSecurity {
+  bool enabled = false;
+  std::string identity_ca;     // CA certificate that signed every identity (PEM)
+  std::string certificate;     // this participant's identity certificate (PEM)
+  std::string private_key;     // its private key (PEM)
+  std::string permissions_ca;  // CA that signed governance and permissions
+  std::string governance;      // signed governance document (S/MIME)
+  std::string permissions;     // signed permissions document (S/MIME)
+};
+
+struct DdsSettings {
+  int domain_id = 0;                // [0, 232]
+  std::string prefix = "headingd";  // topics PREFIX/orientation, /bias, /status, /command
+  bool ros2_naming = false;         // our topics as ROS 2 names them on the wire: rt/PREFIX/...
+  bool publish_imu = true;          // sensor_msgs/msg/Imu on rt/IMU_TOPIC
+  std::string imu_topic = "imu";
+  std::string frame_id = "imu_link";
+  double orientation_rate_hz = 50.0;        // Orientation and Imu messages per second (0, 1000]
+  bool orientation_reliable = false;        // false: best-effort (latest wins); true: reliable
+  std::optional<std::string> profiles_xml;  // Fast DDS XML profiles (override our QoS)
+  // Fast DDS Discovery Servers as IPV4:PORT, the position in the list being the server id
+  // (`fastdds discovery -i ID`), as in ROS_DISCOVERY_SERVER; "" skips an id. Empty: multicast.
+  std::vector<std::string> discovery_servers;
+  CommandLimits command_limits;
+  DdsSecurity security;
+};
+
+// The topic name for one of our topics, with the naming in force.
+inline std::string topic_name(const DdsSettings& s, const std::string& leaf) {
+  return (s.ros2_naming ? "rt/" : "") + s.prefix + "/" + leaf;
+}
+
+}  // namespace headingd::app

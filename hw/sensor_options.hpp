@@ -1,0 +1,28 @@
+#pragma once
+// How to reach the gyro, as the operator writes it in [sensor] or on the command line. A plain
+// value: the configuration parser fills it without knowing any driver or simulator.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace headingd::app {
+
+struct SensorOptions {
+  std::string bus = "/dev/i2c-1";
+  int address = 0x6B;
+  int rate_hz = 400;
+  int bandwidth = 2;
+  int full_scale_dps = 245;
+  int watermark = 16;
+  std::optional<std::string> gpio_chip;  // unset: timed poll
+  unsigned gpio_line = 0;
+  bool int2_active_low = false;
+  // The simulator instead of hardware: motion scenario, seed, part-to-part rate error.
+  std::optional<std::string> simulated_chip;
+  std::uint64_t sim_seed = 1;
+  double sim_rate_error = 0.0;
+  bool sim_realtime = false;       // the simulator runs at the chip's real pace
+  double sim_dead_after_s = -1.0;  // the simulated sensor dies after this long
+};
+
+}  // namespace headingd::app

@@ -1,0 +1,105 @@
+#include "io/csv_out.hpp"
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+namespace headingd::app {
+namespace {
+constexpr std::size_t kBufferBytes = 1 << 20;
+constexpr std::size_t kMaxFieldBytes = 64;
+}  // namespace
+
+CsvOut::CsvOut(std::string path) : path_(std::move(path)), buffer_(kBufferBytes) {
+  if (path_ == "-") {
+    file_ = stdout;
+  } else {
+    file_ = std::fopen(path_.c_str(), "wb");
+    if (file_ == nullptr) throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));
+    owns_file_ = true;
+  }
+}
+
+CsvOut::~CsvOut() {
+  try {
+    close();
+  } catch (const OutputError&) {
+    // Destructors must not throw; callers that care call close() themselves.
+  }
+}
+
+void CsvOut::reserve(std::size_t bytes) {
+  if (used_ + bytes > buffer_.size()) flush();
+}
+
+void CsvOut::separator() {
+  if (line_started_) buffer_[used_++] = ',';
+  line_started_ = true;
+}
+
+CsvOut& CsvOut::text(std::string_view value) {
+  reserve(value.size() + 1);
+  if (value.size() + 1 > buffer_.size()) buffer_.resize(value.size() + 1);
+  separator();
+  std::memcpy(buffer_.data() + used_, value.data(), value.size());
+  used_ += value.size();
+  return *this;
+}
+
+CsvOut& CsvOut::number(double value, int decimals) {
+  reserve(kMaxFieldBytes + 1);
+  separator();
+  if (!std::isfinite(value)) {
+    const std::string_view word = std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
+    std::memcpy(buffer_.data() + used_, word.data(), word.size());
+    used_ += word.size();
+    return *this;
+  }
+  char* out = buffer_.data() + used_;
+  auto result = std::to_chars(out, out + kMaxFieldBytes, value, std::chars_format::fixed, decimals);
+  if (result.ec != std::errc{}) {
+    result = std::to_chars(out, out + kMaxFieldBytes, value, std::chars_format::scientific, decimals);
+  }
+  used_ += static_cast<std::size_t>(result.ptr - out);
+  return *this;
+}
+
+CsvOut& CsvOut::integer(std::int64_t value) {
+  reserve(kMaxFieldBytes + 1);
+  separator();
+  char* out = buffer_.data() + used_;
+  const auto result = std::to_chars(out, out + kMaxFieldBytes, value);
+  used_ += static_cast<std::size_t>(result.ptr - out);
+  return *this;
+}
+
+void CsvOut::end_line() {
+  reserve(1);
+  buffer_[used_++] = '\n';
+  line_started_ = false;
+}
+
+void CsvOut::line(std::string_view whole_line) {
+  text(whole_line);
+  end_line();
+}
+
+void CsvOut::flush() {
+  if (file_ == nullptr) return;
+  if (used_ > 0 && std::fwrite(buffer_.data(), 1, used_, file_) != used_) {
+    throw OutputError("cannot write " + path_ + ": " + std::strerror(errno));
+  }
+  used_ = 0;
+}
+
+void CsvOut::close() {
+  if (file_ == nullptr) return;
+  flush();
+  std::FILE* file = file_;
+  file_ = nullptr;
+  const bool failed = owns_file_ ? std::fclose(file) != 0 : std::fflush(file) != 0;
+  if (failed) throw OutputError("cannot write " + path_ + ": " + std::strerror(errno));
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,239 @@
+#include "io/csv_replay.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <limits>
+
+#include "core/units.hpp"
+#include "io/native_csv.hpp"
+
+namespace headingd::drivers {
+namespace {
+
+constexpr std::size_t kBufferBytes = 1 << 20;  // also the longest line accepted
+constexpr std::string_view kEurocTime = "timestamp";
+constexpr std::string_view kEurocRates[3] = {"w_RS_S_x", "w_RS_S_y", "w_RS_S_z"};
+
+// EuRoC headers put units after the name ("w_RS_S_x [rad s^-1]"): compare the name only.
+std::string_view column_key(std::string_view name) {
+  name = trim(name);
+  const auto bracket = name.find('[');
+  return trim(name.substr(0, bracket));
+}
+
+bool is_euroc_header(std::string_view comment_body) {
+  return column_key(comment_body.substr(0, comment_body.find(','))) == kEurocTime;
+}
+
+std::string shorten(std::string_view text) {
+  constexpr std::size_t kMax = 40;
+  return text.size() <= kMax ? std::string(text) : std::string(text.substr(0, kMax)) + "…";
+}
+
+}  // namespace
+
+CsvReplaySource::CsvReplaySource(std::string path) : path_(std::move(path)), buffer_(kBufferBytes) {
+  file_ = std::fopen(path_.c_str(), "rb");
+  if (file_ == nullptr) {
+    throw OpenError("cannot open " + path_ + ": " + std::strerror(errno));
+  }
+  try {
+    read_header();
+  } catch (...) {
+    close();
+    throw;
+  }
+}
+
+CsvReplaySource::CsvReplaySource(std::FILE* file, std::string name)
+    : path_(std::move(name)), file_(file), buffer_(kBufferBytes) {
+  if (file_ == nullptr) throw OpenError("cannot read " + path_ + ": no stream");
+  try {
+    read_header();
+  } catch (...) {
+    close();
+    throw;
+  }
+}
+
+CsvReplaySource::~CsvReplaySource() { close(); }
+
+void CsvReplaySource::close() {
+  if (file_ != nullptr) {
+    std::fclose(file_);
+    file_ = nullptr;
+  }
+}
+
+std::string CsvReplaySource::describe() const {
+  return path_ + (format_ == Format::Euroc ? " (EuRoC/ASL IMU CSV)" : " (headingd CSV)");
+}
+
+void CsvReplaySource::fail(std::string problem) const { throw InputError(path_, line_number_, std::move(problem)); }
+
+bool CsvReplaySource::next_line(std::string_view& line) {
+  while (true) {
+    const char* start = buffer_.data() + begin_;
+    const auto* newline = static_cast<const char*>(std::memchr(start, '\n', end_ - begin_));
+    if (newline != nullptr) {
+      line = std::string_view(start, static_cast<std::size_t>(newline - start));
+      begin_ += line.size() + 1;
+      ++line_number_;
+      return true;
+    }
+    if (eof_ || file_ == nullptr) {
+      if (begin_ == end_) return false;
+      line = std::string_view(start, end_ - begin_);  // last line without a newline
+      begin_ = end_;
+      ++line_number_;
+      return true;
+    }
+    // Move the partial line to the front and fill the rest of the buffer.
+    const std::size_t partial = end_ - begin_;
+    if (partial == buffer_.size()) {
+      ++line_number_;
+      fail("line longer than " + std::to_string(buffer_.size()) + " bytes");
+    }
+    std::memmove(buffer_.data(), start, partial);
+    begin_ = 0;
+    end_ = partial;
+    const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_);
+    end_ += got;
+    if (got == 0) {
+      if (std::ferror(file_) != 0) fail(std::string("read error: ") + std::strerror(errno));
+      eof_ = true;
+    }
+  }
+}
+
+void CsvReplaySource::read_header() {
+  std::string_view line;
+  while (next_line(line)) {
+    const auto text = trim(line);
+    if (text.empty()) continue;
+    if (text.front() == '#') {
+      const auto body = trim(text.substr(1));
+      if (is_euroc_header(body)) {
+        format_ = Format::Euroc;
+        split_fields(body, ',', fields_);
+        find_columns(fields_);
+        return;
+      }
+      comments_.emplace_back(body);
+      continue;
+    }
+    format_ = Format::Native;
+    split_fields(text, ',', fields_);
+    find_columns(fields_);
+    return;
+  }
+  if (line_number_ == 0) fail("file is empty");
+  fail("no header line: expected 'time_s,gx_dps,gy_dps,gz_dps' or an EuRoC '#timestamp [ns],…' line");
+}
+
+void CsvReplaySource::find_columns(const Fields& header) {
+  if (header.overflow) fail("header has more than " + std::to_string(Fields::kMax) + " columns");
+  column_names_.clear();
+  for (std::size_t i = 0; i < header.count; ++i) column_names_.emplace_back(trim(header.items[i]));
+
+  const auto find = [&](std::string_view key) -> std::optional<std::size_t> {
+    for (std::size_t i = 0; i < column_names_.size(); ++i)
+      if (column_key(column_names_[i]) == key) return i;
+    return std::nullopt;
+  };
+  const auto require = [&](std::string_view key) {
+    const auto index = find(key);
+    if (!index) {
+      std::string have;
+      for (const auto& name : column_names_) have += (have.empty() ? "" : ",") + name;
+      fail("missing column '" + std::string(key) + "' in header (found: " + have + ")");
+    }
+    return *index;
+  };
+
+  const bool euroc = format_ == Format::Euroc;
+  time_column_ = require(euroc ? kEurocTime : app::kNativeTimeColumn);
+  for (int axis = 0; axis < 3; ++axis) {
+    rate_columns_[axis] = require(euroc ? kEurocRates[axis] : app::kNativeRateColumns[axis]);
+  }
+  temp_column_ = euroc ? std::nullopt : find(app::kNativeTempColumn);
+}
+
+void CsvReplaySource::parse_line(std::string_view line, core::Sample& sample) {
+  split_fields(line, ',', fields_);
+  if (fields_.overflow || fields_.count != column_names_.size()) {
+    fail("expected " + std::to_string(column_names_.size()) + " fields, found " +
+         (fields_.overflow ? "more than " + std::to_string(Fields::kMax) : std::to_string(fields_.count)));
+  }
+  const auto number = [&](std::size_t column) {
+    const auto value = parse_double(fields_.items[column]);
+    if (!value) {
+      fail("field '" + column_names_[column] + "' (column " + std::to_string(column + 1) + "): '" +
+           shorten(trim(fields_.items[column])) + "' is not a finite number");
+    }
+    return *value;
+  };
+
+  double t_s = 0.0;
+  if (format_ == Format::Euroc) {
+    const auto ns = parse_int64(fields_.items[time_column_]);
+    if (!ns) {
+      fail("field '" + column_names_[time_column_] + "' (column " + std::to_string(time_column_ + 1) + "): '" +
+           shorten(trim(fields_.items[time_column_])) + "' is not an integer nanosecond count");
+    }
+    t_s = static_cast<double>(*ns) / 1e9;
+    for (int axis = 0; axis < 3; ++axis) sample.rate_dps[axis] = core::rad_to_deg(number(rate_columns_[axis]));
+  } else {
+    t_s = number(time_column_);
+    for (int axis = 0; axis < 3; ++axis) sample.rate_dps[axis] = number(rate_columns_[axis]);
+  }
+  sample.temp_c = temp_column_ ? number(*temp_column_) : std::numeric_limits<double>::quiet_NaN();
+
+  if (samples_ > 0 && !(t_s > previous_t_s_)) {
+    char text[96];
+    std::snprintf(text, sizeof text, "time %s: %.9g s is not after the previous %.9g s",
+                  t_s < previous_t_s_ ? "goes backwards" : "does not advance", t_s, previous_t_s_);
+    fail(text);
+  }
+  sample.t_s = t_s;
+  if (samples_ == 0) first_t_s_ = t_s;
+  previous_t_s_ = t_s;
+}
+
+core::SourceHealth CsvReplaySource::health() const {
+  core::SourceHealth health;
+  health.samples = samples_;
+  const double span_s = previous_t_s_ - first_t_s_;
+  if (samples_ > 1 && span_s > 0) health.rate_hz = static_cast<double>(samples_ - 1) / span_s;
+  return health;
+}
+
+std::size_t CsvReplaySource::read(std::span<core::Sample> out) {
+  if (pending_error_) {
+    const InputError error = *pending_error_;
+    pending_error_.reset();
+    close();
+    throw error;
+  }
+  std::size_t count = 0;
+  std::string_view line;
+  try {
+    while (count < out.size() && next_line(line)) {
+      const auto text = trim(line);
+      if (text.empty() || text.front() == '#') continue;  // blank and comment lines
+      parse_line(text, out[count]);
+      ++count;
+      ++samples_;
+    }
+    if (count == 0 && samples_ == 0 && file_ != nullptr) fail("no samples after the header");
+  } catch (const InputError& error) {
+    if (count == 0) {
+      close();
+      throw;
+    }
+    pending_error_ = error;  // deliver the good samples first
+  }
+  return count;
+}
+
+}  // namespace headingd::drivers

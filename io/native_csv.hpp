@@ -1,0 +1,41 @@
+#pragma once
+// headingd's native recording format, owned here: the reader (csv_replay) and the writers
+// (run --record, record, simulate) take the column names from this one place.
+//   # comment lines (provenance)
+//   time_s,gx_dps,gy_dps,gz_dps,temp_c
+// Columns are found by name on reading, so the order is ours to choose when writing.
+#include <string>
+#include <string_view>
+
+#include "core/sample.hpp"
+#include "io/csv_out.hpp"
+
+namespace headingd::app {
+
+inline constexpr std::string_view kNativeTimeColumn = "time_s";
+inline constexpr std::string_view kNativeRateColumns[3] = {"gx_dps", "gy_dps", "gz_dps"};
+inline constexpr std::string_view kNativeTempColumn = "temp_c";
+
+// How many decimals each column gets. The rates take 5: a multiple of the LSB (8.75 mdps)
+// exactly, so a replay parses the very doubles that were recorded.
+struct RecordingPrecision {
+  int time_decimals = 9;  // the driver's nanoseconds
+  int temp_decimals = 1;
+};
+
+class RecordingWriter {
+ public:
+  // `comments`: '#' lines, each ending in a newline (may be empty). Throws OutputError.
+  RecordingWriter(const std::string& path, std::string_view comments, RecordingPrecision precision);
+  void add(const core::Sample& sample);
+  // A '#' line after the samples (e.g. the counters at the end of a recording).
+  void comment(std::string_view line);
+  void close();  // flushes; throws OutputError
+  const std::string& path() const { return out_.path(); }
+
+ private:
+  CsvOut out_;
+  RecordingPrecision precision_;
+};
+
+}  // namespace headingd::app

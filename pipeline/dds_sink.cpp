@@ -1,0 +1,49 @@
+#include "pipeline/dds_sink.hpp"
+
+#include "dds/dds_participant.hpp"
+
+namespace headingd::pipeline {
+namespace {
+// After a sensor recovery, Status says DEGRADED this long (sample time).
+constexpr double kDegradedAfterRecoveryS = 5.0;
+}  // namespace
+
+DdsSink::DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock)
+    : node_(node), source_(source), clock_(clock) {}
+
+app::StatusReport DdsSink::report(const core::Estimate& estimate) {
+  const core::SourceHealth health = source_.health();
+  if (health.recoveries > recoveries_seen_) {
+    recoveries_seen_ = health.recoveries;
+    degraded_until_s_ = estimate.t_s + kDegradedAfterRecoveryS;
+  }
+  app::StatusReport r;
+  if (!health.live)
+    r.state = app::SensorState::Replay;
+  else if (estimate.t_s < degraded_until_s_)
+    r.state = app::SensorState::Degraded;
+  else
+    r.state = estimate.in_startup ? app::SensorState::Starting : app::SensorState::Ok;
+  const double span_s = estimate.t_s - first_t_s_;
+  r.sample_rate_hz = health.rate_hz > 0 ? health.rate_hz
+                     : span_s > 0       ? static_cast<double>(samples_ - 1) / span_s
+                                        : 0.0;
+  r.samples_received = samples_;
+  r.samples_dropped = health.lost_samples;
+  r.bus_errors = health.bus_errors;
+  r.fifo_overruns = health.overruns;
+  r.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  return r;
+}
+
+void DdsSink::add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) {
+  if (samples_++ == 0) first_t_s_ = sample.t_s;
+  if (!anchored_ || clock_ == StampClock::EachSample) {
+    anchored_ = true;
+    wall_offset_s_ = app::wall_now_s() - sample.t_s;
+  }
+  if (!node_.due(estimate)) return;
+  node_.publish(estimate, estimator.diagnostics(), report(estimate), wall_offset_s_);
+}
+
+}  // namespace headingd::pipeline

@@ -1,0 +1,39 @@
+#pragma once
+// Publishes over DDS (Orientation, Imu, GyroBias, Status) and hands the HeadingCommands that
+// arrived to the pipeline. The DDS layer sees an Estimate, the estimator's Diagnostics and a
+// StatusReport: plain values built here.
+#include <chrono>
+
+#include "dds/dds_node.hpp"
+#include "pipeline/sink.hpp"
+
+namespace headingd::pipeline {
+
+// How the estimate's clock becomes wall-clock time for the stamps.
+enum class StampClock {
+  FirstSample,  // the offset taken at the first sample (a sensor, or a paced recording)
+  EachSample,   // now, at every sample (a recording read as fast as possible)
+};
+
+class DdsSink final : public Sink, public CommandInbox {
+ public:
+  DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock);
+  void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) override;
+  void take(std::vector<app::ValidCommand>& out) override { node_.take_commands(out); }
+
+ private:
+  app::StatusReport report(const core::Estimate& estimate);
+
+  app::DdsNode& node_;
+  const core::SampleSource& source_;
+  StampClock clock_;
+  bool anchored_ = false;
+  double wall_offset_s_ = 0.0;
+  std::uint64_t recoveries_seen_ = 0;
+  double degraded_until_s_ = -1.0;  // sample time until which a recent fault shows as DEGRADED
+  std::uint64_t samples_ = 0;
+  double first_t_s_ = 0.0;
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace headingd::pipeline

@@ -1,0 +1,120 @@
+#include "pipeline/pipeline.hpp"
+
+#include <exception>
+
+#include "io/csv_out.hpp"
+#include "io/input_error.hpp"
+#include "service/signals.hpp"
+
+namespace headingd::pipeline {
+
+const char* ending_name(Ending ending) {
+  switch (ending) {
+    case Ending::EndOfInput:
+      return "end of input";
+    case Ending::Duration:
+      return "duration reached";
+    case Ending::Signal:
+      return "stopped by signal";
+    case Ending::BadInput:
+      return "bad input";
+    case Ending::SourceFailed:
+      return "sensor failed";
+    case Ending::OutputFailed:
+      return "output failed";
+  }
+  return "?";
+}
+
+Pipeline::Pipeline(core::SampleSource& source, std::unique_ptr<core::Estimator> estimator, PipelineOptions options)
+    : source_(source), estimator_(std::move(estimator)), options_(std::move(options)) {
+  commands_.reserve(16);
+}
+
+void Pipeline::apply_commands() {
+  inbox_->take(commands_);
+  for (const auto& command : commands_) {
+    if (command.kind == app::CommandKind::SetHeading)
+      estimator_->set_heading(command.heading_deg, command.variance_deg2);
+    else
+      estimator_->set_motion_hint(command.hint);
+  }
+  commands_.clear();
+}
+
+Outcome Pipeline::run() {
+  Outcome outcome;
+  std::vector<core::Sample> batch(options_.batch);
+  bool started = false;
+  try {
+    while (true) {
+      if (stop_requested()) {
+        outcome.ending = Ending::Signal;
+        break;
+      }
+      std::size_t count = 0;
+      try {
+        count = source_.read(batch);
+      } catch (const drivers::InputError& error) {
+        outcome.ending = Ending::BadInput;
+        outcome.error = error.what();
+        outcome.exception = std::current_exception();
+        break;
+      } catch (const app::OutputError&) {
+        throw;
+      } catch (const std::exception& error) {
+        outcome.ending = Ending::SourceFailed;
+        outcome.error = error.what();
+        outcome.exception = std::current_exception();
+        break;
+      }
+      if (count == 0) {
+        outcome.ending = stop_requested() ? Ending::Signal : Ending::EndOfInput;
+        break;
+      }
+      for (std::size_t i = 0; i < count; ++i) {
+        const core::Sample& sample = batch[i];
+        if (!started) {
+          started = true;
+          outcome.first_t_s = sample.t_s;
+        }
+        if (stop_requested() || (options_.pacer && !options_.pacer->wait(sample))) break;
+        if (inbox_ != nullptr) apply_commands();
+        const core::Estimate& estimate = estimator_->update(sample);
+        outcome.last_t_s = sample.t_s;
+        ++outcome.samples;
+        for (Sink* sink : sinks_) sink->add(sample, estimate, *estimator_);
+      }
+      for (Sink* sink : sinks_) sink->batch_done(*estimator_, source_);
+      if (reloader_ && app::take_reload_request()) {
+        if (auto next = reloader_(*estimator_)) estimator_ = std::move(next);
+      }
+      if (options_.duration_s > 0 && outcome.last_t_s - outcome.first_t_s >= options_.duration_s) {
+        outcome.ending = Ending::Duration;
+        break;
+      }
+    }
+  } catch (const std::exception& error) {  // a sink could not write (OutputError) or failed otherwise
+    outcome.ending = Ending::OutputFailed;
+    outcome.error = error.what();
+    outcome.exception = std::current_exception();
+  }
+  finish(outcome);
+  return outcome;
+}
+
+void Pipeline::finish(Outcome& outcome) {
+  for (auto sink = sinks_.rbegin(); sink != sinks_.rend(); ++sink) {
+    try {
+      (*sink)->finish(*estimator_, source_);
+    } catch (const std::exception& error) {
+      if (outcome.ending != Ending::OutputFailed) {
+        outcome.ending = Ending::OutputFailed;
+        outcome.error = error.what();
+        outcome.exception = std::current_exception();
+      }
+    }
+  }
+}
+
+}  // namespace headingd::pipeline

@@ -1,0 +1,24 @@
+#include "pipeline/recording_sink.hpp"
+
+#include <cstdio>
+
+namespace headingd::pipeline {
+
+RecordingSink::RecordingSink(const std::string& path, const std::string& comments)
+    : writer_(path, comments, app::RecordingPrecision{}) {}
+
+void RecordingSink::add(const core::Sample& sample, const core::Estimate& /*estimate*/,
+                        const core::Estimator& /*estimator*/) {
+  writer_.add(sample);
+}
+
+void RecordingSink::finish(const core::Estimator& /*estimator*/, const core::SampleSource& source) {
+  const core::SourceHealth health = source.health();
+  char text[160];
+  std::snprintf(text, sizeof text, "# measured output rate %.3f Hz; %llu samples, %llu lost", health.rate_hz,
+                static_cast<unsigned long long>(health.samples), static_cast<unsigned long long>(health.lost_samples));
+  writer_.comment(text);
+  writer_.close();
+}
+
+}  // namespace headingd::pipeline

@@ -1,0 +1,24 @@
+#pragma once
+// Records what the source delivered (`run --record`, `record`) as a native CSV that replays to
+// the very same estimates.
+#include <string>
+
+#include "io/native_csv.hpp"
+#include "pipeline/sink.hpp"
+
+namespace headingd::pipeline {
+
+class RecordingSink final : public Sink {
+ public:
+  // `comments`: the source's provenance, '#' lines. Throws OutputError.
+  RecordingSink(const std::string& path, const std::string& comments);
+  void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) override;
+  // Ends the file with the measured rate and the sample counts.
+  void finish(const core::Estimator& estimator, const core::SampleSource& source) override;
+  const std::string& path() const { return writer_.path(); }
+
+ private:
+  app::RecordingWriter writer_;
+};
+
+}  // namespace headingd::pipeline

@@ -1,0 +1,42 @@
+#include "pipeline/service_sink.hpp"
+
+#include <cstdio>
+
+#include "service/log.hpp"
+
+namespace headingd::pipeline {
+namespace {
+constexpr auto kStatusEvery = std::chrono::seconds(10);
+}  // namespace
+
+void ServiceSink::batch_done(const core::Estimator& estimator, const core::SampleSource& source) {
+  const core::Estimate& last = estimator.last();
+  const core::Diagnostics diagnostics = estimator.diagnostics();
+  if (diagnostics.bias_recoveries > recoveries_seen_) {
+    char text[300];
+    std::snprintf(text, sizeof text,
+                  "the bias restarted from a long quiet period it could not explain (a start-up while turning, or "
+                  "a wrong saved bias): heading sigma now %.1f deg; a heading fix (HeadingCommand set-heading) "
+                  "restores it",
+                  last.heading_sigma_deg);
+    app::log(app::LogPriority::Warning, "bias-recovery", text);
+  }
+  recoveries_seen_ = diagnostics.bias_recoveries;
+  notifier_.ready();  // after the first good batch
+  notifier_.sample_loop_alive();
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_status_ < kStatusEvery) return;
+  last_status_ = now;
+  const core::SourceHealth health = source.health();
+  char text[200];
+  std::snprintf(text, sizeof text, "heading %.2f deg (sigma %.2f), bias z %+.4f dps, %llu samples, %llu bus errors",
+                last.heading_deg, last.heading_sigma_deg, last.bias_dps.z(),
+                static_cast<unsigned long long>(health.samples), static_cast<unsigned long long>(health.bus_errors));
+  notifier_.status(text);
+}
+
+void ServiceSink::finish(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) {
+  notifier_.stopping();
+}
+
+}  // namespace headingd::pipeline

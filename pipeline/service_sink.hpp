@@ -1,0 +1,27 @@
+#pragma once
+// Tells systemd and the journal how the run goes: READY=1 after the first batch, WATCHDOG=1
+// from the loop, a STATUS= line every 10 s, a warning when the bias restarts from an
+// unexplained quiet period, and STOPPING=1 at the end, whatever ended the run.
+#include <chrono>
+#include <cstdint>
+
+#include "pipeline/sink.hpp"
+#include "service/notify.hpp"
+
+namespace headingd::pipeline {
+
+class ServiceSink final : public Sink {
+ public:
+  explicit ServiceSink(app::Notifier& notifier) : notifier_(notifier) {}
+  void add(const core::Sample& /*sample*/, const core::Estimate& /*estimate*/,
+           const core::Estimator& /*estimator*/) override {}
+  void batch_done(const core::Estimator& estimator, const core::SampleSource& source) override;
+  void finish(const core::Estimator& estimator, const core::SampleSource& source) override;
+
+ private:
+  app::Notifier& notifier_;
+  std::chrono::steady_clock::time_point last_status_ = std::chrono::steady_clock::now();
+  std::uint64_t recoveries_seen_ = 0;
+};
+
+}  // namespace headingd::pipeline

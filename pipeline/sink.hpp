@@ -1,0 +1,36 @@
+#pragma once
+// Where estimates go. A sink is told every sample with its estimate, then once per batch the
+// source delivered (for work at a slower pace: saving, status), then once at the end,
+// whatever ended the run. Sinks are finished in the reverse of the order they were added, so
+// the last one set up is the first one taken down (as chrony's main.c undoes its start-up).
+#include <vector>
+
+#include "core/estimate.hpp"
+#include "core/estimator.hpp"
+#include "core/sample.hpp"
+#include "core/sample_source.hpp"
+#include "dds/command_validator.hpp"
+
+namespace headingd::pipeline {
+
+class Sink {
+ public:
+  virtual ~Sink() = default;
+  // Every sample, in order, with the estimate it produced. May throw OutputError.
+  virtual void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) = 0;
+  // After each batch from the source. May throw OutputError.
+  virtual void batch_done(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) {}
+  // Once, at the end of the run, whatever ended it. May throw OutputError; the other sinks
+  // are finished all the same.
+  virtual void finish(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) {}
+};
+
+// Commands from outside (HeadingCommand over DDS), as plain validated values.
+class CommandInbox {
+ public:
+  virtual ~CommandInbox() = default;
+  // Appends the commands received since the last call.
+  virtual void take(std::vector<app::ValidCommand>& out) = 0;
+};
+
+}  // namespace headingd::pipeline

@@ -1,0 +1,419 @@
+#include "service/config_file.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "core/method.hpp"
+#include "dds/server_address.hpp"
+#include "service/log.hpp"
+
+namespace headingd::app {
+namespace {
+
+std::string where(const std::string& file, const toml::node& node) {
+  const auto& begin = node.source().begin;
+  return file + ":" + std::to_string(begin.line) + ":" + std::to_string(begin.column);
+}
+
+[[noreturn]] void fail(const std::string& file, const toml::node& node, const std::string& key,
+                       const std::string& problem) {
+  throw ConfigError(where(file, node) + ": '" + key + "' " + problem);
+}
+
+std::string_view type_name(const toml::node& node) {
+  switch (node.type()) {
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    default:
+      return "a date/time";
+  }
+}
+
+std::string shown(const toml::node& node) {
+  std::ostringstream text;
+  node.visit([&](const auto& value) { text << value; });
+  return text.str();
+}
+
+double number_in(const std::string& file, const toml::node& node, const std::string& key, double lo, double hi,
+                 bool lo_open) {
+  std::optional<double> value;
+  if (node.is_floating_point()) value = node.as_floating_point()->get();
+  if (node.is_integer()) value = static_cast<double>(node.as_integer()->get());
+  if (!value) fail(file, node, key, "must be a number, found " + std::string(type_name(node)) + " " + shown(node));
+  const bool low_ok = lo_open ? *value > lo : *value >= lo;
+  if (!std::isfinite(*value) || !low_ok || *value > hi) {
+    std::ostringstream range;
+    range << "is " << shown(node) << ", allowed " << (lo_open ? "(" : "[") << lo << ", " << hi << "]";
+    fail(file, node, key, range.str());
+  }
+  return *value;
+}
+
+// Reads one TOML table key by key; every key must be claimed by a handler.
+class TableReader {
+ public:
+  TableReader(const std::string& file, const toml::table& table, std::string prefix)
+      : file_(file), table_(table), prefix_(std::move(prefix)) {}
+
+  double number(const toml::node& node, const std::string& key, double lo, double hi, bool lo_open) const {
+    return number_in(file_, node, key, lo, hi, lo_open);
+  }
+  core::Vec3 vector3(const toml::node& node, const std::string& key, double lo, double hi) const {
+    const auto* array = node.as_array();
+    if (array == nullptr || array->size() != 3)
+      fail(file_, node, key, "must be an array of three numbers [x, y, z], found " + shown(node));
+    core::Vec3 v;
+    for (std::size_t axis = 0; axis < 3; ++axis)
+      v[static_cast<Eigen::Index>(axis)] = number_in(file_, *array->get(axis), key, lo, hi, true);
+    return v;
+  }
+  bool boolean(const toml::node& node, const std::string& key) const {
+    if (!node.is_boolean()) fail(file_, node, key, "must be true or false, found " + shown(node));
+    return node.as_boolean()->get();
+  }
+  std::uint32_t integer(const toml::node& node, const std::string& key, std::int64_t lo, std::int64_t hi) const {
+    if (!node.is_integer()) fail(file_, node, key, "must be an integer, found " + shown(node));
+    return static_cast<std::uint32_t>(
+        number_in(file_, node, key, static_cast<double>(lo), static_cast<double>(hi), false));
+  }
+
+  // Calls handle(name, node, full_key) for each key; handle returns false for unknown keys.
+  template <typename Handler>
+  void each(Handler&& handle, const char* known) const {
+    for (const auto& [raw_key, node] : table_) {
+      const std::string name(raw_key.str());
+      const std::string key = prefix_ + name;
+      if (!handle(name, node, key)) fail(file_, node, key, std::string("is not a known key (known: ") + known + ")");
+    }
+  }
+  const std::string& file() const { return file_; }
+
+ private:
+  const std::string& file_;
+  const toml::table& table_;
+  std::string prefix_;
+};
+
+const toml::table& as_table(const std::string& file, const toml::node& node, const std::string& key) {
+  const auto* table = node.as_table();
+  if (table == nullptr) fail(file, node, key, "must be a table ([" + key + "])");
+  return *table;
+}
+
+void read_temperature(const TableReader& r, core::AutoSettings& a) {
+  auto& t = a.temperature;
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "enabled")
+          a.use_temperature = r.boolean(node, key);
+        else if (name == "reference_c")
+          t.reference_c = r.number(node, key, -60.0, 150.0, false);
+        else if (name == "half_life_h")
+          t.half_life_s = 3600.0 * r.number(node, key, 0.0, 24.0 * 365.0, true);
+        else if (name == "min_span_c")
+          t.min_span_c = r.number(node, key, 0.0, 100.0, true);
+        else if (name == "quadratic_span_c")
+          t.quadratic_span_c = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "min_points")
+          t.min_points = r.integer(node, key, 3, 100000);
+        else
+          return false;
+        return true;
+      },
+      "enabled, reference_c, half_life_h, min_span_c, quadratic_span_c, min_points");
+}
+
+void read_auto(const TableReader& r, core::AutoSettings& a) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "min_segment_s")
+          a.min_segment_s = r.number(node, key, 0.0, 600.0, true);
+        else if (name == "k_range")
+          a.k_range = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "k_mean")
+          a.k_mean = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "k_mean_pooled")
+          a.k_mean_pooled = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "arw_dps_rt_hz")
+          a.arw_dps_rt_hz = r.vector3(node, key, 0.0, 10.0);
+        else if (name == "bias_walk_dps_rt_s")
+          a.bias_walk_dps_rt_s = r.number(node, key, 0.0, 1.0, false);
+        else if (name == "block_s")
+          a.block_s = r.number(node, key, 0.0, 60.0, true);
+        else if (name == "retract_before_creep")
+          a.retract_before_creep = r.boolean(node, key);
+        else if (name == "recover_after_s")
+          a.recover_after_s = r.number(node, key, 0.0, 86400.0, false);
+        else
+          return false;
+        return true;
+      },
+      "min_segment_s, k_range, k_mean, k_mean_pooled, arw_dps_rt_hz, bias_walk_dps_rt_s, block_s, "
+      "retract_before_creep, recover_after_s");
+}
+
+void read_estimator(const TableReader& r, core::EstimatorSettings& e) {
+  core::BiasSettings& s = e.segments;
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "method") {
+          const auto* text = node.as_string();
+          const auto method = text ? core::parse_method(text->get()) : std::nullopt;
+          if (!method) fail(r.file(), node, key, "is " + shown(node) + ", allowed \"auto\", \"a\", \"b\" or \"c\"");
+          e.method = *method;
+        } else if (name == "segment_s") {
+          s.segment_s = r.number(node, key, 0.0, 600.0, true);
+        } else if (name == "k_range") {
+          s.k_range = r.number(node, key, 0.0, 1000.0, true);
+        } else if (name == "k_mean") {
+          s.k_mean = r.number(node, key, 0.0, 1000.0, true);
+        } else if (name == "n_means") {
+          s.n_means = r.integer(node, key, 1, static_cast<std::int64_t>(core::MeanHistory::kMaxMeans));
+        } else if (name == "still_at_start") {
+          s.still_at_start = r.boolean(node, key);
+        } else if (name == "sigma_still_dps") {
+          s.sigma_still_dps = r.vector3(node, key, 0.0, 100.0);
+        } else if (name == "auto") {
+          read_auto(TableReader(r.file(), as_table(r.file(), node, key), key + "."), e.automatic);
+        } else if (name == "temperature") {
+          read_temperature(TableReader(r.file(), as_table(r.file(), node, key), key + "."), e.automatic);
+        } else {
+          return false;
+        }
+        return true;
+      },
+      "method, segment_s, k_range, k_mean, n_means, sigma_still_dps, still_at_start, [estimator.auto], "
+      "[estimator.temperature]");
+}
+
+std::string text_of(const std::string& file, const toml::node& node, const std::string& key) {
+  const auto* text = node.as_string();
+  if (text == nullptr) fail(file, node, key, "must be a string, found " + shown(node));
+  return std::string(text->get());
+}
+
+// "IPV4:PORT" (server id 0) or a list of them, the position being the server id; "" skips one.
+std::vector<std::string> server_list(const std::string& file, const toml::node& node, const std::string& key) {
+  std::vector<std::string> servers;
+  const auto check = [&](const toml::node& entry) {
+    const std::string text = text_of(file, entry, key);
+    std::string why;
+    if (!text.empty() && !parse_server_address(text, why)) fail(file, entry, key, why + ", found " + shown(entry));
+    servers.push_back(text);
+  };
+  if (const auto* array = node.as_array()) {
+    for (const auto& entry : *array) check(entry);
+  } else {
+    check(node);
+  }
+  if (std::all_of(servers.begin(), servers.end(), [](const std::string& s) { return s.empty(); }))
+    fail(file, node, key, "names no server, found " + shown(node));
+  return servers;
+}
+
+void read_security(const TableReader& r, DdsSecurity& s) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "enabled")
+          s.enabled = r.boolean(node, key);
+        else if (name == "identity_ca")
+          s.identity_ca = text_of(r.file(), node, key);
+        else if (name == "certificate")
+          s.certificate = text_of(r.file(), node, key);
+        else if (name == "private_key")
+          s.private_key = text_of(r.file(), node, key);
+        else if (name == "permissions_ca")
+          s.permissions_ca = text_of(r.file(), node, key);
+        else if (name == "governance")
+          s.governance = text_of(r.file(), node, key);
+        else if (name == "permissions")
+          s.permissions = text_of(r.file(), node, key);
+        else
+          return false;
+        return true;
+      },
+      "enabled, identity_ca, certificate, private_key, permissions_ca, governance, permissions");
+}
+
+void read_dds(const TableReader& r, DdsSettings& d) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "security") {
+          read_security(TableReader(r.file(), as_table(r.file(), node, key), key + "."), d.security);
+          return true;
+        }
+        if (name == "domain_id")
+          d.domain_id = static_cast<int>(r.integer(node, key, 0, 232));
+        else if (name == "prefix")
+          d.prefix = text_of(r.file(), node, key);
+        else if (name == "ros2_naming")
+          d.ros2_naming = r.boolean(node, key);
+        else if (name == "publish_imu")
+          d.publish_imu = r.boolean(node, key);
+        else if (name == "imu_topic")
+          d.imu_topic = text_of(r.file(), node, key);
+        else if (name == "frame_id")
+          d.frame_id = text_of(r.file(), node, key);
+        else if (name == "orientation_rate_hz")
+          d.orientation_rate_hz = r.number(node, key, 0.0, 1000.0, true);
+        else if (name == "orientation_reliable")
+          d.orientation_reliable = r.boolean(node, key);
+        else if (name == "profiles_xml")
+          d.profiles_xml = text_of(r.file(), node, key);
+        else if (name == "discovery_server") {
+          d.discovery_servers = server_list(r.file(), node, key);
+        } else if (name == "command_max_age_s")
+          d.command_limits.max_age_s = r.number(node, key, 0.0, 3600.0, true);
+        else
+          return false;
+        return true;
+      },
+      "domain_id, prefix, ros2_naming, publish_imu, imu_topic, frame_id, orientation_rate_hz, orientation_reliable, "
+      "profiles_xml, discovery_server, command_max_age_s, [dds.security]");
+}
+
+void read_sensor(const TableReader& r, SensorOptions& s) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "bus")
+          s.bus = text_of(r.file(), node, key);
+        else if (name == "address") {
+          s.address = static_cast<int>(r.integer(node, key, 0x6A, 0x6B));
+        } else if (name == "rate_hz") {
+          s.rate_hz = static_cast<int>(r.integer(node, key, 100, 800));
+          if (s.rate_hz != 100 && s.rate_hz != 200 && s.rate_hz != 400 && s.rate_hz != 800)
+            fail(r.file(), node, key, "is " + shown(node) + ", allowed 100, 200, 400 or 800");
+        } else if (name == "bandwidth")
+          s.bandwidth = static_cast<int>(r.integer(node, key, 0, 3));
+        else if (name == "full_scale_dps") {
+          s.full_scale_dps = static_cast<int>(r.integer(node, key, 245, 2000));
+          if (s.full_scale_dps != 245 && s.full_scale_dps != 500 && s.full_scale_dps != 2000)
+            fail(r.file(), node, key, "is " + shown(node) + ", allowed 245, 500 or 2000");
+        } else if (name == "watermark")
+          s.watermark = static_cast<int>(r.integer(node, key, 1, 30));
+        else if (name == "gpio_chip")
+          s.gpio_chip = text_of(r.file(), node, key);
+        else if (name == "gpio_line")
+          s.gpio_line = r.integer(node, key, 0, 1023);
+        else if (name == "int2_active_low")
+          s.int2_active_low = r.boolean(node, key);
+        else
+          return false;
+        return true;
+      },
+      "bus, address, rate_hz, bandwidth, full_scale_dps, watermark, gpio_chip, gpio_line, int2_active_low");
+}
+
+void read_state(const TableReader& r, Config& c) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "path")
+          c.state_path = text_of(r.file(), node, key);
+        else if (name == "save_interval_s")
+          c.state_save_interval_s = r.number(node, key, 1.0, 86400.0, false);
+        else
+          return false;
+        return true;
+      },
+      "path, save_interval_s");
+}
+
+Config interpret(const toml::table& root, const std::string& file) {
+  Config config;
+  for (const auto& [raw_key, node] : root) {
+    const std::string key(raw_key.str());
+    if (key == "estimator") {
+      read_estimator(TableReader(file, as_table(file, node, key), "estimator."), config.estimator);
+    } else if (key == "dds") {
+      read_dds(TableReader(file, as_table(file, node, key), "dds."), config.dds);
+    } else if (key == "sensor") {
+      read_sensor(TableReader(file, as_table(file, node, key), "sensor."), config.sensor);
+    } else if (key == "log") {
+      TableReader r(file, as_table(file, node, key), "log.");
+      r.each(
+          [&](const std::string& name, const toml::node& value, const std::string& full_key) {
+            if (name != "level") return false;
+            config.log_level = text_of(file, value, full_key);
+            LogPriority level;
+            if (!parse_log_level(config.log_level, level))
+              fail(file, value, full_key,
+                   "is " + shown(value) + ", allowed \"error\", \"warning\", \"notice\", \"info\" or \"debug\"");
+            return true;
+          },
+          "level");
+    } else if (key == "state") {
+      read_state(TableReader(file, as_table(file, node, key), "state."), config);
+    } else {
+      fail(file, node, key, "is not a known section (known: [sensor], [estimator], [dds], [state], [log])");
+    }
+  }
+  const auto& sec = config.dds.security;
+  if (sec.enabled) {
+    for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"identity_ca", sec.identity_ca},
+                                     {"certificate", sec.certificate},
+                                     {"private_key", sec.private_key},
+                                     {"permissions_ca", sec.permissions_ca},
+                                     {"governance", sec.governance},
+                                     {"permissions", sec.permissions}}) {
+      if (value.empty()) throw ConfigError(file + ": [dds.security]: '" + key + "' is required when enabled = true");
+      if (!std::ifstream(value))
+        throw ConfigError(file + ": [dds.security]: " + key + " file " + value + " cannot be read");
+    }
+  }
+  if (const auto problem = core::validate(config.estimator)) {
+    throw ConfigError(file + ": [estimator]: " + *problem);
+  }
+  return config;
+}
+
+}  // namespace
+
+Config parse_config(std::string_view text, const std::string& name) {
+  try {
+    const toml::table root = toml::parse(text, name);
+    return interpret(root, name);
+  } catch (const toml::parse_error& error) {
+    const auto& begin = error.source().begin;
+    throw ConfigError(name + ":" + std::to_string(begin.line) + ":" + std::to_string(begin.column) + ": " +
+                      std::string(error.description()));
+  }
+}
+
+bool apply_method_option(const std::optional<std::string>& method, core::EstimatorSettings& settings) {
+  if (!method) return true;
+  const auto parsed = core::parse_method(*method);
+  if (!parsed) {
+    std::fprintf(stderr, "headingd: --method: '%s' is not a method (use auto, a, b or c)\n", method->c_str());
+    return false;
+  }
+  settings.method = *parsed;
+  return true;
+}
+
+Config load_config(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError("cannot open config " + path + ": " + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_config(text.str(), path);
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,222 @@
+#include "tools/allan_command.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <vector>
+
+#include "core/allan.hpp"
+#include "core/estimator.hpp"
+#include "io/csv_replay.hpp"
+#include "pipeline/pipeline.hpp"
+#include "service/exit_codes.hpp"
+
+namespace headingd::app {
+namespace {
+
+constexpr const char* kAxisNames[3] = {"x", "y", "z"};
+
+struct Recording {
+  std::array<std::vector<double>, 3> rate_dps;
+  double period_s = 0.0;
+  double sigma_still_sum[3] = {0, 0, 0};  // per-sample variance summed over 3 s blocks
+  std::size_t sigma_blocks = 0;
+};
+
+// Keeps every sample, or with still_only only those in segments the auto estimator accepts
+// (turns cut out, the still stretches joined).
+class Collector final : public pipeline::Sink {
+ public:
+  Collector(Recording& rec, bool still_only) : rec_(rec), still_only_(still_only) {}
+  void add(const core::Sample& s, const core::Estimate& estimate, const core::Estimator& /*estimator*/) override {
+    if (std::isfinite(previous_t_) && periods.size() < 100000) periods.push_back(s.t_s - previous_t_);
+    previous_t_ = s.t_s;
+    if (!still_only_) {
+      keep(s);
+      return;
+    }
+    if (estimate.closed.closed) {
+      if (estimate.closed.accepted && estimate.closed.index == pending_segment_)
+        for (const auto& p : pending_) keep(p);
+      pending_.clear();
+    }
+    pending_segment_ = estimate.segment_index;
+    pending_.push_back(s);
+  }
+  std::vector<double> periods;
+
+ private:
+  void keep(const core::Sample& s) {
+    for (int a = 0; a < 3; ++a) rec_.rate_dps[static_cast<std::size_t>(a)].push_back(s.rate_dps[a]);
+  }
+  Recording& rec_;
+  bool still_only_;
+  std::vector<core::Sample> pending_;
+  double previous_t_ = NAN;
+  std::uint64_t pending_segment_ = 0;
+};
+
+// Reads the recording through the pipeline; throws what stopped it (InputError at a bad line).
+Recording read_recording(drivers::CsvReplaySource& source, bool still_only) {
+  Recording rec;
+  pipeline::PipelineOptions options;
+  options.batch = 4096;
+  pipeline::Pipeline line(source, std::make_unique<core::Estimator>(), std::move(options));
+  Collector collector(rec, still_only);
+  line.add_sink(collector);
+  const pipeline::Outcome outcome = line.run();
+  if (outcome.exception) std::rethrow_exception(outcome.exception);
+  std::vector<double>& periods = collector.periods;
+  if (!periods.empty()) {
+    std::nth_element(periods.begin(), periods.begin() + static_cast<long>(periods.size() / 2), periods.end());
+    rec.period_s = periods[periods.size() / 2];
+  }
+  // Per-sample sigma of still data: the mean variance within 3 s blocks.
+  const auto block = static_cast<std::size_t>(std::max(2.0, std::round(3.0 / std::max(rec.period_s, 1e-6))));
+  for (std::size_t start = 0; start + block <= rec.rate_dps[0].size(); start += block) {
+    for (int a = 0; a < 3; ++a) {
+      const auto& x = rec.rate_dps[static_cast<std::size_t>(a)];
+      double mean = 0.0, sq = 0.0;
+      for (std::size_t i = start; i < start + block; ++i) mean += x[i];
+      mean /= static_cast<double>(block);
+      for (std::size_t i = start; i < start + block; ++i) sq += (x[i] - mean) * (x[i] - mean);
+      rec.sigma_still_sum[a] += sq / static_cast<double>(block - 1);
+    }
+    ++rec.sigma_blocks;
+  }
+  return rec;
+}
+
+bool draw_plot(const std::string& path, const std::vector<int>& axes,
+               const std::array<std::vector<core::AllanPoint>, 3>& curves, const std::string& title) {
+  const auto data = std::filesystem::temp_directory_path() / ("headingd-allan-" + std::to_string(::getpid()) + ".dat");
+  {
+    std::FILE* f = std::fopen(data.c_str(), "w");
+    if (f == nullptr) return false;
+    for (int a : axes) {
+      for (const auto& p : curves[static_cast<std::size_t>(a)]) std::fprintf(f, "%.9g %.9g\n", p.tau_s, p.deviation);
+      std::fprintf(f, "\n\n");
+    }
+    std::fclose(f);
+  }
+  std::FILE* gp = ::popen("gnuplot 2>&1", "w");
+  if (gp == nullptr) return false;
+  std::fprintf(gp,
+               "set terminal pngcairo size 800,560 font ',10'\nset output '%s'\nset logscale xy\nset grid xtics ytics "
+               "mxtics mytics\n"
+               "set xlabel 'cluster time tau [s]'\nset ylabel 'Allan deviation [deg/s]'\nset title '%s'\nplot ",
+               path.c_str(), title.c_str());
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    std::fprintf(gp, "%s'%s' index %zu with linespoints pt 7 ps 0.5 title '%s'", i ? ", " : "", data.c_str(), i,
+                 kAxisNames[axes[i]]);
+  }
+  std::fprintf(gp, "\n");
+  const int status = ::pclose(gp);
+  std::filesystem::remove(data);
+  return status == 0 && std::filesystem::exists(path);
+}
+
+}  // namespace
+
+int run_allan(const AllanOptions& options) {
+  std::vector<int> axes;
+  if (options.axis == "all")
+    axes = {0, 1, 2};
+  else if (options.axis == "x")
+    axes = {0};
+  else if (options.axis == "y")
+    axes = {1};
+  else if (options.axis == "z")
+    axes = {2};
+  else {
+    std::fprintf(stderr, "headingd: --axis: '%s' is not x, y, z or all\n", options.axis.c_str());
+    return kExitUsage;
+  }
+
+  Recording rec;
+  try {
+    drivers::CsvReplaySource source(options.input);
+    rec = read_recording(source, options.still_only);
+  } catch (const drivers::OpenError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitNoInput;
+  } catch (const drivers::InputError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitDataError;
+  }
+  const std::size_t n = rec.rate_dps[0].size();
+  const auto clusters = core::log_spaced_clusters(n);
+  if (clusters.size() < 3 || !(rec.period_s > 0.0)) {
+    std::fprintf(stderr, "headingd: %s: too few%s samples for an Allan analysis (%zu)\n", options.input.c_str(),
+                 options.still_only ? " still" : "", n);
+    return kExitDataError;
+  }
+
+  std::array<std::vector<core::AllanPoint>, 3> curves;
+  std::array<core::NoiseTerms, 3> terms;
+  for (int a : axes) {
+    const auto i = static_cast<std::size_t>(a);
+    curves[i] = core::allan_deviation(rec.rate_dps[i], rec.period_s, clusters);
+    terms[i] = core::read_noise_terms(curves[i]);
+  }
+
+  std::printf("# Allan deviation of %s: %zu%s samples, period %.6f s (%.1f h)\n", options.input.c_str(), n,
+              options.still_only ? " still" : "", rec.period_s, static_cast<double>(n) * rec.period_s / 3600.0);
+  std::printf("%12s", "tau_s");
+  for (int a : axes) std::printf(" %14s", (std::string("adev_") + kAxisNames[a] + "_dps").c_str());
+  std::printf("\n");
+  for (std::size_t k = 0; k < curves[static_cast<std::size_t>(axes[0])].size(); ++k) {
+    std::printf("%12.4f", curves[static_cast<std::size_t>(axes[0])][k].tau_s);
+    for (int a : axes) std::printf(" %14.6e", curves[static_cast<std::size_t>(a)][k].deviation);
+    std::printf("\n");
+  }
+  std::printf("\n");
+  for (int a : axes) {
+    const auto& t = terms[static_cast<std::size_t>(a)];
+    std::printf(
+        "%s: angle random walk %.5f dps/sqrt(Hz) (%.3f deg/sqrt(h)); bias instability %.5f dps (%.2f deg/h) "
+        "at tau %.0f s; rate random walk ",
+        kAxisNames[a], t.arw, t.arw * 60.0, t.bias_instability, t.bias_instability * 3600.0, t.tau_at_minimum_s);
+    if (t.rate_random_walk)
+      std::printf("%.3g dps/sqrt(s)\n", *t.rate_random_walk);
+    else
+      std::printf("not reached (recording too short)\n");
+  }
+
+  if (options.emit_config) {
+    std::printf("\n# headingd estimator settings from this recording's noise\n[estimator]\nsigma_still_dps = [");
+    for (int a = 0; a < 3; ++a) {
+      const double sigma =
+          rec.sigma_blocks ? std::sqrt(rec.sigma_still_sum[a] / static_cast<double>(rec.sigma_blocks)) : 0.0;
+      std::printf("%s%.5f", a ? ", " : "", sigma);
+    }
+    std::printf("]\n\n[estimator.auto]\n");
+    if (axes.size() == 3) {
+      std::printf("arw_dps_rt_hz = [%.5f, %.5f, %.5f]\n", terms[0].arw, terms[1].arw, terms[2].arw);
+    } else {
+      std::printf("# arw_dps_rt_hz needs all three axes (--axis all)\n");
+    }
+    // The bias may wander by the bias instability within the time the curve's minimum takes:
+    // a random walk of density K reaches sigma = K sqrt(tau / 3) at tau.
+    const auto& z = terms[static_cast<std::size_t>(axes.back())];
+    const double walk = z.rate_random_walk.value_or(z.bias_instability * 0.664 * std::sqrt(3.0 / z.tau_at_minimum_s));
+    std::printf("bias_walk_dps_rt_s = %.3g\n", walk);
+  }
+
+  if (options.plot_path) {
+    if (!draw_plot(*options.plot_path, axes, curves,
+                   "Allan deviation: " + std::filesystem::path(options.input).filename().string())) {
+      std::fprintf(stderr, "headingd: could not draw %s (the plot needs gnuplot: apt-get install gnuplot-nox)\n",
+                   options.plot_path->c_str());
+      return kExitCantCreate;
+    }
+    std::fprintf(stderr, "headingd allan: plot written to %s\n", options.plot_path->c_str());
+  }
+  return kExitOk;
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,70 @@
+#include "tools/heading_score.hpp"
+
+#include <fstream>
+
+#include "io/input_error.hpp"
+#include "io/text_fields.hpp"
+
+namespace headingd::app {
+
+TimeSeries read_columns(const std::string& path, const std::string& time_column, const std::string& value_column) {
+  std::ifstream in(path);
+  if (!in) throw drivers::OpenError("cannot open " + path);
+  TimeSeries series;
+  std::string line;
+  std::uint64_t line_number = 0;
+  std::optional<std::size_t> time_index;
+  std::optional<std::size_t> value_index;
+  std::size_t columns = 0;
+  drivers::Fields fields;
+  while (std::getline(in, line)) {
+    ++line_number;
+    const auto text = drivers::trim(line);
+    if (text.empty() || text.front() == '#') continue;
+    drivers::split_fields(text, ',', fields);
+    if (!time_index) {
+      columns = fields.count;
+      for (std::size_t i = 0; i < fields.count; ++i) {
+        if (drivers::trim(fields.items[i]) == time_column) time_index = i;
+        if (drivers::trim(fields.items[i]) == value_column) value_index = i;
+      }
+      if (!time_index || !value_index)
+        throw drivers::InputError(path, line_number, "header lacks '" + time_column + "' or '" + value_column + "'");
+      continue;
+    }
+    if (fields.count != columns)
+      throw drivers::InputError(
+          path, line_number, "expected " + std::to_string(columns) + " fields, found " + std::to_string(fields.count));
+    const auto t = drivers::parse_double(fields.items[*time_index]);
+    const auto v = drivers::parse_double(fields.items[*value_index]);
+    if (!t || !v) throw drivers::InputError(path, line_number, "time or value is not a finite number");
+    series.t_s.push_back(*t);
+    series.value.push_back(*v);
+  }
+  if (!time_index) throw drivers::InputError(path, line_number, "no header line");
+  return series;
+}
+
+core::HeadingMetrics score_heading(const TimeSeries& estimate, const TimeSeries& truth,
+                                   std::vector<std::pair<double, double>>* errors) {
+  core::HeadingMetrics metrics;
+  if (estimate.t_s.empty()) return metrics;
+  std::size_t j = 0;
+  constexpr double kEpsilonS = 1e-6;
+  for (std::size_t i = 0; i < truth.t_s.size(); ++i) {
+    const double t = truth.t_s[i];
+    if (t < estimate.t_s.front() - kEpsilonS || t > estimate.t_s.back() + kEpsilonS) continue;
+    while (j + 1 < estimate.t_s.size() && estimate.t_s[j + 1] <= t) ++j;
+    double heading = estimate.value[j];
+    if (j + 1 < estimate.t_s.size() && t > estimate.t_s[j]) {
+      const double w = (t - estimate.t_s[j]) / (estimate.t_s[j + 1] - estimate.t_s[j]);
+      heading += w * (estimate.value[j + 1] - estimate.value[j]);
+    }
+    const double error = truth.value[i] - heading;
+    metrics.add(t, error);
+    if (errors) errors->emplace_back(t, error);
+  }
+  return metrics;
+}
+
+}  // namespace headingd::app

@@ -1,0 +1,58 @@
+#include "tools/score_command.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "io/csv_out.hpp"
+#include "io/input_error.hpp"
+#include "service/exit_codes.hpp"
+#include "tools/heading_score.hpp"
+
+namespace headingd::app {
+
+int run_score(const ScoreOptions& options) {
+  TimeSeries estimate;
+  TimeSeries truth;
+  try {
+    estimate = read_columns(options.estimates, "time_s", "heading_deg");
+    truth = read_columns(options.truth, "time_s", "heading_deg");
+  } catch (const drivers::OpenError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitNoInput;
+  } catch (const drivers::InputError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitDataError;
+  }
+  std::vector<std::pair<double, double>> errors;
+  const auto metrics = score_heading(estimate, truth, options.errors_output ? &errors : nullptr);
+  if (metrics.count() == 0) {
+    std::fprintf(stderr, "headingd: %s and %s share no time span\n", options.estimates.c_str(), options.truth.c_str());
+    return kExitDataError;
+  }
+  if (options.errors_output) {
+    try {
+      CsvOut out(*options.errors_output);
+      out.line("time_h,error_deg");
+      double next_s = -1.0;
+      for (const auto& [t_s, error_deg] : errors) {
+        if (t_s < next_s) continue;
+        next_s = std::floor(t_s) + 1.0;
+        out.number(t_s / 3600.0, 6).number(error_deg, 4);
+        out.end_line();
+      }
+      out.close();
+    } catch (const OutputError& error) {
+      std::fprintf(stderr, "headingd: %s\n", error.what());
+      return kExitCantCreate;
+    }
+  }
+  if (options.header) {
+    std::printf("%-12s %10s %10s %10s %12s %8s\n", "method", "max|E| deg", "final|E|", "RMS deg", "drift deg/h",
+                "hours");
+  }
+  std::printf("%-12s %10.2f %10.2f %10.2f %12.3f %8.2f\n", options.label.c_str(), metrics.max_abs_deg(),
+              metrics.final_abs_deg(), metrics.rms_deg(), metrics.drift_deg_per_h(), metrics.hours());
+  return kExitOk;
+}
+
+}  // namespace headingd::app
