@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `headingd run` against the simulated chip, recording as it goes: the recording replays to
-# the very same estimates, sample for sample. `record` alone writes the same file. Missing
+# the very same estimates, sample for sample, through `replay` and through `run --recording`
+# (run's own path with the pacer at max). `record` alone writes the same file. Missing
 # hardware gives clear errors.
 set -uo pipefail
 headingd="$1"
@@ -15,6 +16,14 @@ rows=$(($(wc -l <"$dir/live.csv") - 1))
 [ "$rows" -gt 20000 ] || fail "only $rows live estimates"
 cmp -s "$dir/live.csv" "$dir/replay.csv" || fail "replay differs from the live run: $(diff "$dir/live.csv" "$dir/replay.csv" | head -3)"
 echo "ok: $rows live estimates equal the replay of the recording, byte for byte"
+
+# The recording through run's own path (run --recording, pacer at max): the same estimates as
+# replay, byte for byte, and as the live run that made it.
+"$headingd" run --no-dds --recording "$dir/rec.csv" --speed max --output-rate 0 --output "$dir/run-rec.csv" \
+  2>"$dir/run-rec.log" || fail "run --recording: $(cat "$dir/run-rec.log")"
+cmp -s "$dir/run-rec.csv" "$dir/replay.csv" || fail "run --recording differs from replay: $(diff "$dir/run-rec.csv" "$dir/replay.csv" | head -3)"
+grep -q "(end of input)" "$dir/run-rec.log" || fail "run --recording did not end at the end of input: $(cat "$dir/run-rec.log")"
+echo "ok: run --recording --speed max equals replay, byte for byte"
 
 "$headingd" record --simulated-chip agv --sim-seed 5 --sim-rate-error 0.03 --duration 60 --output "$dir/rec2.csv" 2>/dev/null ||
   fail "record"

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Every way a run can end goes through the same shutdown: end of input, SIGTERM, an output
+# that cannot be written (/dev/full) and a dead sensor each leave a fresh state file, send
+# STOPPING=1 on a real notify socket, and leave nothing in /dev/shm (each run gets a /dev/shm
+# of its own, a tmpfs in a mount namespace made here, so other processes' files cannot hide
+# or fake a leak). DDS is on in every case, over the shipped loopback profile.
+# Usage: exit_paths.sh HEADINGD NOTIFY_LISTENER SOURCE_ROOT
+set -uo pipefail
+headingd="$1"
+listener="$2"
+root="$3"
+dir="$(mktemp -d)"
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+printf '[dds]\ndomain_id = 49\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$root" >"$dir/cfg.toml"
+recording="$root/tests/data/agv-1min/imu.csv"
+
+# run_case NAME EXPECTED_EXIT SIGTERM_AFTER_S ARGS...: runs headingd in its own /dev/shm with
+# NOTIFY_SOCKET set, then checks exit code, STOPPING=1, state file and /dev/shm.
+run_case() {
+  local name="$1" expected="$2" term_after="$3"
+  shift 3
+  local case_dir="$dir/$name"
+  mkdir -p "$case_dir"
+  "$listener" "$case_dir/notify.sock" "$case_dir/notify.log" &
+  local listener_pid=$!
+  sleep 0.2
+  local started
+  started=$(date +%s)
+  # shellcheck disable=SC2016
+  NOTIFY_SOCKET="$case_dir/notify.sock" unshare --mount --propagation private bash -c '
+    mount -t tmpfs headingd-test /dev/shm || exit 90
+    "$@" 2>"'"$case_dir"'/stderr" &
+    pid=$!
+    if [ "'"$term_after"'" != 0 ]; then sleep "'"$term_after"'"; kill -TERM "$pid"; fi
+    wait "$pid"; rc=$?
+    ls -A /dev/shm >"'"$case_dir"'/shm-left"
+    exit "$rc"' -- "$headingd" "$@" --state "$case_dir/state" -c "$dir/cfg.toml"
+  local rc=$?
+  kill -TERM "$listener_pid"
+  wait "$listener_pid"
+  [ "$rc" -ne 90 ] || fail "$name: cannot mount a private /dev/shm (needs root)"
+  [ "$rc" -eq "$expected" ] || fail "$name: exit $rc, expected $expected: $(tail -5 "$case_dir/stderr")"
+  grep -qx "STOPPING=1" "$case_dir/notify.log" || fail "$name: no STOPPING=1 (got: $(tr '\n' ' ' <"$case_dir/notify.log"))"
+  grep -qx "READY=1" "$case_dir/notify.log" || fail "$name: no READY=1"
+  [ -f "$case_dir/state" ] || fail "$name: no state file"
+  local saved
+  saved=$(sed -n 's/^saved_unix_s=\([0-9]*\).*/\1/p' "$case_dir/state")
+  [ -n "$saved" ] && [ "$saved" -ge "$started" ] || fail "$name: state file not fresh (saved $saved, run started $started)"
+  [ ! -s "$case_dir/shm-left" ] || fail "$name: left in /dev/shm: $(tr '\n' ' ' <"$case_dir/shm-left")"
+  echo "ok: $name: exit $rc, STOPPING=1 sent, state saved, /dev/shm clean"
+}
+
+run_case end-of-input 0 0 run --recording "$recording" --speed max --output "$dir/est.csv"
+run_case sigterm 0 5 run --simulated-chip still --sim-realtime
+run_case output-error 73 0 run --recording "$recording" --speed max --output /dev/full --output-rate 0
+grep -q "cannot write /dev/full" "$dir/output-error/stderr" || fail "output-error: $(cat "$dir/output-error/stderr")"
+run_case sensor-death 74 0 run --simulated-chip still --sim-dead-after 20
+grep -q "L3GD20H: no sample for 30 s, every recovery failed" "$dir/sensor-death/stderr" ||
+  fail "sensor-death: $(tail -3 "$dir/sensor-death/stderr")"
+echo "ok: every exit path saves the state, says STOPPING and cleans /dev/shm"
