@@ -12,6 +12,7 @@
 #include "io/csv_out.hpp"
 #include "pipeline/dds_sink.hpp"
 #include "pipeline/estimates_sink.hpp"
+#include "pipeline/pacer.hpp"
 #include "pipeline/pipeline.hpp"
 #include "pipeline/recording_sink.hpp"
 #include "pipeline/service_sink.hpp"
@@ -80,6 +81,21 @@ void linger(double seconds) {
 }
 
 }  // namespace
+
+int set_rate_and_speed(double output_rate_hz, const std::string& speed, JobOptions& job) {
+  if (const auto problem = pipeline::check_output_rate(output_rate_hz)) {
+    std::fprintf(stderr, "headingd: %s\n", problem->c_str());
+    return kExitUsage;
+  }
+  const auto factor = pipeline::parse_speed(speed);
+  if (!factor) {
+    std::fprintf(stderr, "headingd: --speed: '%s' is not max, realtime or a positive factor\n", speed.c_str());
+    return kExitUsage;
+  }
+  job.output_rate_hz = output_rate_hz;
+  job.speed_factor = *factor;
+  return kExitOk;
+}
 
 int run_job(core::SampleSource& source, const JobOptions& options) {
   // Start-up, in order. Each part is an object declared after the ones it needs, so leaving

@@ -33,6 +33,10 @@ struct JobOptions {
   std::optional<std::string> method;
 };
 
+// Sets the output rate and the pacing from --output-rate and --speed; 0, or the exit code
+// after saying on stderr what is wrong.
+int set_rate_and_speed(double output_rate_hz, const std::string& speed, JobOptions& job);
+
 // Runs the job to its end; returns the process exit code (0 also after a signal; 65 bad input,
 // 73 output failure, 74 a dead sensor, 70 DDS could not start).
 int run_job(core::SampleSource& source, const JobOptions& options);

@@ -4,10 +4,13 @@
 
 #include "hw/gpiod_data_ready.hpp"
 #include "hw/linux_i2c_bus.hpp"
+#include "hw/sensor_limits.hpp"
 
 namespace headingd::app {
 
 LiveSource::LiveSource(const SensorOptions& options) : options_(options) {
+  if (const auto allowed = drivers::address_not_allowed(options.address))
+    throw std::runtime_error("sensor settings: address must be " + *allowed);
   drivers::L3gd20hSettings settings;
   settings.address = static_cast<std::uint8_t>(options.address);
   settings.rate_hz = options.rate_hz;

@@ -9,6 +9,7 @@
 #include "pipeline/pacer.hpp"
 #include "service/config_file.hpp"
 #include "service/exit_codes.hpp"
+#include "service/input_errors.hpp"
 
 namespace headingd::app {
 
@@ -26,31 +27,14 @@ int run_replay(const ReplayOptions& options) {
     return kExitConfig;
   }
   if (!apply_method_option(options.method, job.settings)) return kExitUsage;
-  if (const auto problem = pipeline::check_output_rate(options.output_rate_hz)) {
-    std::fprintf(stderr, "headingd: %s\n", problem->c_str());
-    return kExitUsage;
-  }
-  const auto speed = pipeline::parse_speed(options.speed);
-  if (!speed) {
-    std::fprintf(stderr, "headingd: --speed: '%s' is not max, realtime or a positive factor\n", options.speed.c_str());
-    return kExitUsage;
-  }
+  if (const int code = set_rate_and_speed(options.output_rate_hz, options.speed, job)) return code;
 
   std::unique_ptr<drivers::CsvReplaySource> source;
-  try {
-    source = std::make_unique<drivers::CsvReplaySource>(options.input);
-  } catch (const drivers::OpenError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    return kExitNoInput;
-  } catch (const drivers::InputError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    return kExitDataError;
-  }
+  if (const int code = report_input_errors([&] { source = std::make_unique<drivers::CsvReplaySource>(options.input); }))
+    return code;
 
   job.output = options.output;
-  job.output_rate_hz = options.output_rate_hz;
   job.publish = options.publish;
-  job.speed_factor = *speed;
   job.batch = 4096;
   job.wait_subscribers_s = options.wait_subscribers_s;
   job.linger_s = options.linger_s;

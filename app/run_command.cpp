@@ -10,6 +10,7 @@
 #include "pipeline/pacer.hpp"
 #include "service/config_file.hpp"
 #include "service/exit_codes.hpp"
+#include "service/input_errors.hpp"
 #include "service/log.hpp"
 #include "service/signals.hpp"
 
@@ -52,20 +53,6 @@ std::unique_ptr<LiveSource> open_sensor(const SensorOptions& sensor) {
   }
 }
 
-// A recording standing in for the sensor: `run --recording FILE`.
-std::unique_ptr<drivers::CsvReplaySource> open_recording(const std::string& path, int& exit_code) {
-  try {
-    return std::make_unique<drivers::CsvReplaySource>(path);
-  } catch (const drivers::OpenError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    exit_code = kExitNoInput;
-  } catch (const drivers::InputError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    exit_code = kExitDataError;
-  }
-  return nullptr;
-}
-
 std::string comments_of(const drivers::CsvReplaySource& recording) {
   std::string text;
   for (const auto& line : recording.comments()) text += "#" + line + "\n";
@@ -86,19 +73,10 @@ int run_live(const RunOptions& options) {
   job.command = "run";
   job.settings = config.estimator;
   if (!apply_method_option(options.method, job.settings)) return kExitUsage;
-  if (const auto problem = pipeline::check_output_rate(options.output_rate_hz)) {
-    std::fprintf(stderr, "headingd: %s\n", problem->c_str());
-    return kExitUsage;
-  }
-  const auto speed = pipeline::parse_speed(options.speed);
-  if (!speed) {
-    std::fprintf(stderr, "headingd: --speed: '%s' is not max, realtime or a positive factor\n", options.speed.c_str());
-    return kExitUsage;
-  }
+  if (const int code = set_rate_and_speed(options.output_rate_hz, options.speed, job)) return code;
   LogPriority level;
   if (parse_log_level(config.log_level, level)) set_log_level(level);
   job.output = options.output;
-  job.output_rate_hz = options.output_rate_hz;
   job.record_path = options.record_path;
   job.state_path = options.state_path ? options.state_path : config.state_path;
   job.state_save_interval_s = config.state_save_interval_s;
@@ -109,14 +87,15 @@ int run_live(const RunOptions& options) {
   job.method = options.method;
 
   if (options.recording) {
-    int exit_code = kExitOk;
-    auto recording = open_recording(*options.recording, exit_code);
-    if (!recording) return exit_code;
-    job.speed_factor = *speed;
+    std::unique_ptr<drivers::CsvReplaySource> recording;  // standing in for the sensor
+    if (const int code =
+            report_input_errors([&] { recording = std::make_unique<drivers::CsvReplaySource>(*options.recording); }))
+      return code;
     job.batch = 4096;
     job.record_comments = comments_of(*recording);
     return run_job(*recording, job);
   }
+  job.speed_factor = 0.0;  // a sensor paces itself
   auto sensor = open_sensor(merged_sensor(config.sensor, options));
   if (!sensor) return kExitNoInput;
   job.record_comments = sensor->header_comment();

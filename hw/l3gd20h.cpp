@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "hw/l3gd20h_registers.hpp"
+#include "hw/sensor_limits.hpp"
 
 namespace headingd::drivers {
 
@@ -40,11 +41,15 @@ std::string hex(unsigned value) {
 }  // namespace
 
 std::optional<std::string> validate(const L3gd20hSettings& s) {
-  if (s.address != kAddressLow && s.address != kAddressHigh) return "address must be 0x6A or 0x6B";
-  if (!find_rate(s.rate_hz)) return "rate_hz must be 100, 200, 400 or 800";
-  if (s.bandwidth < 0 || s.bandwidth > 3) return "bandwidth must be 0..3";
-  if (!find_scale(s.full_scale_dps)) return "full_scale_dps must be 245, 500 or 2000";
-  if (s.watermark < 1 || s.watermark > 30) return "watermark must be 1..30";
+  const auto check = [](const char* field, std::optional<std::string> problem) -> std::optional<std::string> {
+    if (problem) return std::string(field) + " must be " + *problem;
+    return std::nullopt;
+  };
+  for (auto problem : {check("address", address_not_allowed(s.address)), check("rate_hz", rate_not_allowed(s.rate_hz)),
+                       check("bandwidth", bandwidth_not_allowed(s.bandwidth)),
+                       check("full_scale_dps", full_scale_not_allowed(s.full_scale_dps)),
+                       check("watermark", watermark_not_allowed(s.watermark))})
+    if (problem) return problem;
   if (s.max_retries < 0 || s.max_retries > 100) return "max_retries must be 0..100";
   if (!(s.housekeeping_s > 0.0)) return "housekeeping_s must be positive";
   if (!(s.stuck_s > 0.0)) return "stuck_s must be positive";

@@ -10,19 +10,15 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/diagnostics.hpp"
 #include "core/sample.hpp"
 #include "core/temperature_model.hpp"
 
 namespace headingd::app {
 
-struct SavedState {
-  core::Vec3 bias_dps = core::Vec3::Zero();
-  core::Vec3 bias_sigma_dps = core::Vec3::Zero();
-  double temp_c = 0.0;                              // NaN when unknown
-  core::Vec3 sigma_still_dps = core::Vec3::Zero();  // zero when unknown
-  core::Vec3 arw_dps_rt_hz = core::Vec3::Zero();
-  std::array<core::TemperatureModel::Sums, 3> temperature_sums{};
-  std::array<std::uint32_t, 3> temperature_points{};
+// What the estimator learned (core::LearnedState), and when and at what temperature.
+struct SavedState : core::LearnedState {
+  double temp_c = 0.0;  // NaN when unknown
   double saved_unix_s = 0.0;
 };
 

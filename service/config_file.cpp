@@ -12,6 +12,7 @@
 
 #include "core/method.hpp"
 #include "dds/server_address.hpp"
+#include "hw/sensor_limits.hpp"
 #include "service/log.hpp"
 
 namespace headingd::app {
@@ -290,25 +291,30 @@ void read_dds(const TableReader& r, DdsSettings& d) {
       "profiles_xml, discovery_server, command_max_age_s, [dds.security]");
 }
 
+// An integer setting of the sensor, checked against the chip's allowed values (hw/sensor_limits).
+int sensor_value(const TableReader& r, const toml::node& node, const std::string& key,
+                 std::optional<std::string> (*not_allowed)(long long)) {
+  if (!node.is_integer()) fail(r.file(), node, key, "must be an integer, found " + shown(node));
+  const std::int64_t value = node.as_integer()->get();
+  if (const auto allowed = not_allowed(value)) fail(r.file(), node, key, "is " + shown(node) + ", allowed " + *allowed);
+  return static_cast<int>(value);
+}
+
 void read_sensor(const TableReader& r, SensorOptions& s) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
         if (name == "bus")
           s.bus = text_of(r.file(), node, key);
-        else if (name == "address") {
-          s.address = static_cast<int>(r.integer(node, key, 0x6A, 0x6B));
-        } else if (name == "rate_hz") {
-          s.rate_hz = static_cast<int>(r.integer(node, key, 100, 800));
-          if (s.rate_hz != 100 && s.rate_hz != 200 && s.rate_hz != 400 && s.rate_hz != 800)
-            fail(r.file(), node, key, "is " + shown(node) + ", allowed 100, 200, 400 or 800");
-        } else if (name == "bandwidth")
-          s.bandwidth = static_cast<int>(r.integer(node, key, 0, 3));
-        else if (name == "full_scale_dps") {
-          s.full_scale_dps = static_cast<int>(r.integer(node, key, 245, 2000));
-          if (s.full_scale_dps != 245 && s.full_scale_dps != 500 && s.full_scale_dps != 2000)
-            fail(r.file(), node, key, "is " + shown(node) + ", allowed 245, 500 or 2000");
-        } else if (name == "watermark")
-          s.watermark = static_cast<int>(r.integer(node, key, 1, 30));
+        else if (name == "address")
+          s.address = sensor_value(r, node, key, drivers::address_not_allowed);
+        else if (name == "rate_hz")
+          s.rate_hz = sensor_value(r, node, key, drivers::rate_not_allowed);
+        else if (name == "bandwidth")
+          s.bandwidth = sensor_value(r, node, key, drivers::bandwidth_not_allowed);
+        else if (name == "full_scale_dps")
+          s.full_scale_dps = sensor_value(r, node, key, drivers::full_scale_not_allowed);
+        else if (name == "watermark")
+          s.watermark = sensor_value(r, node, key, drivers::watermark_not_allowed);
         else if (name == "gpio_chip")
           s.gpio_chip = text_of(r.file(), node, key);
         else if (name == "gpio_line")

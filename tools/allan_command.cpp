@@ -14,6 +14,7 @@
 #include "io/csv_replay.hpp"
 #include "pipeline/pipeline.hpp"
 #include "service/exit_codes.hpp"
+#include "service/input_errors.hpp"
 
 namespace headingd::app {
 namespace {
@@ -138,16 +139,11 @@ int run_allan(const AllanOptions& options) {
   }
 
   Recording rec;
-  try {
-    drivers::CsvReplaySource source(options.input);
-    rec = read_recording(source, options.still_only);
-  } catch (const drivers::OpenError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    return kExitNoInput;
-  } catch (const drivers::InputError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    return kExitDataError;
-  }
+  if (const int code = report_input_errors([&] {
+        drivers::CsvReplaySource source(options.input);
+        rec = read_recording(source, options.still_only);
+      }))
+    return code;
   const std::size_t n = rec.rate_dps[0].size();
   const auto clusters = core::log_spaced_clusters(n);
   if (clusters.size() < 3 || !(rec.period_s > 0.0)) {

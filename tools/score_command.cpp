@@ -6,6 +6,7 @@
 #include "io/csv_out.hpp"
 #include "io/input_error.hpp"
 #include "service/exit_codes.hpp"
+#include "service/input_errors.hpp"
 #include "tools/heading_score.hpp"
 
 namespace headingd::app {
@@ -13,16 +14,11 @@ namespace headingd::app {
 int run_score(const ScoreOptions& options) {
   TimeSeries estimate;
   TimeSeries truth;
-  try {
-    estimate = read_columns(options.estimates, "time_s", "heading_deg");
-    truth = read_columns(options.truth, "time_s", "heading_deg");
-  } catch (const drivers::OpenError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    return kExitNoInput;
-  } catch (const drivers::InputError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    return kExitDataError;
-  }
+  if (const int code = report_input_errors([&] {
+        estimate = read_columns(options.estimates, "time_s", "heading_deg");
+        truth = read_columns(options.truth, "time_s", "heading_deg");
+      }))
+    return code;
   std::vector<std::pair<double, double>> errors;
   const auto metrics = score_heading(estimate, truth, options.errors_output ? &errors : nullptr);
   if (metrics.count() == 0) {
