@@ -11,7 +11,6 @@ namespace headingd::core {
 namespace {
 
 constexpr double kTimeEpsilonS = 1e-9;
-constexpr double kMinSigmaStillDps = 1e-6;
 // Before anything is known the bias could be anywhere within the chip's zero-rate level
 // (datasheet: +-25 dps at 2000 dps full scale; a few dps at 245 dps in practice).
 constexpr double kUnknownBiasSigmaDps = 2.0;
@@ -21,26 +20,18 @@ constexpr double kUnknownBiasSigmaDps = 2.0;
 AutoEstimator::AutoEstimator(const BiasSettings& segments, const AutoSettings& settings)
     : segments_(segments),
       settings_(settings),
-      temperature_{TemperatureModel(settings.temperature), TemperatureModel(settings.temperature),
-                   TemperatureModel(settings.temperature)},
+      models_(segments, settings),
       walk_dps2_per_s_(settings.bias_walk_dps_rt_s * settings.bias_walk_dps_rt_s),
       in_startup_(segments.still_at_start) {
   segment_.blocks = BlockMeans(settings_.block_s);
-  if (segments_.sigma_still_dps) sigma_still_dps_ = *segments_.sigma_still_dps;
-  if (settings_.arw_dps_rt_hz) white_dps2_s_ = settings_.arw_dps_rt_hz->cwiseAbs2();
   if (!in_startup_) {
     for (auto& filter : filters_) filter.reset(0.0, kUnknownBiasSigmaDps * kUnknownBiasSigmaDps);
   }
 }
 
 void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
-  for (int axis = 0; axis < 3; ++axis) {
-    auto state = filters_[static_cast<std::size_t>(axis)].state();
-    state.bias_dps = bias_dps[axis];
-    state.covariance(1, 1) = sigma_dps[axis] * sigma_dps[axis];
-    state.covariance(0, 1) = state.covariance(1, 0) = 0.0;
-    filters_[static_cast<std::size_t>(axis)].restore(state);
-  }
+  for (int axis = 0; axis < 3; ++axis)
+    filters_[static_cast<std::size_t>(axis)].set_bias(bias_dps[axis], sigma_dps[axis] * sigma_dps[axis]);
   in_startup_ = false;
   commit_last_accepted();  // nothing to take back across a bias set from outside
   // A restored bias is not confirmed until a stop after motion agrees with it.
@@ -49,11 +40,7 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
 
 void AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   if (variance_deg2 <= 0.0) {
-    filters_[2].set_angle(heading_deg);
-    auto state = filters_[2].state();
-    state.covariance(0, 0) = 0.0;
-    state.covariance(0, 1) = state.covariance(1, 0) = 0.0;
-    filters_[2].restore(state);
+    filters_[2].fix_angle(heading_deg);
   } else {
     filters_[2].measure_angle(heading_deg, variance_deg2);
   }
@@ -90,29 +77,21 @@ bool AutoEstimator::range_gate_trips(const Vec3& rate_dps) const {
   if (segment_.stats.count() == 0) return false;
   const Vec3 low = segment_.stats.min_dps().cwiseMin(rate_dps);
   const Vec3 high = segment_.stats.max_dps().cwiseMax(rate_dps);
-  return ((high - low).array() > settings_.k_range * sigma_still_dps_.array()).any();
+  return ((high - low).array() > settings_.k_range * models_.sigma_still_dps().array()).any();
 }
 
 SegmentVerdict AutoEstimator::close_startup() {
   in_startup_ = false;
   SegmentVerdict verdict{.closed = true, .index = segment_index_, .range_ok = true, .mean_ok = true, .accepted = true};
   const auto& stats = segment_.stats;
-  if (!segments_.sigma_still_dps) sigma_still_dps_ = stats.sigma_dps().cwiseMax(kMinSigmaStillDps);
   const double duration_s = std::max(segment_.duration_s, kTimeEpsilonS);
-  if (!settings_.arw_dps_rt_hz) {
-    pooled_noise_.add(segment_.blocks);
-    // With too few blocks, fall back to treating samples as white: N^2 = sigma^2 * dt.
-    const double dt_s = duration_s / std::max<double>(1.0, stats.count());
-    const Vec3 white_floor = stats.sigma_dps().cwiseAbs2() * dt_s;
-    white_dps2_s_ = pooled_noise_.known() ? pooled_noise_.density_squared().cwiseMax(white_floor) : white_floor;
-  }
-  const Vec3 r = white_dps2_s_ / duration_s;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
+  models_.learn_from_startup(stats, segment_.blocks, duration_s);
+  const Vec3 r = models_.white_dps2_s() / duration_s;
+  for (std::size_t axis = 0; axis < 3; ++axis)
     filters_[axis].reset(stats.mean_dps()[static_cast<Eigen::Index>(axis)], r[static_cast<Eigen::Index>(axis)]);
-    if (segment_.temp_count > 0) {
-      temperature_[axis].add(segment_.start_t_s + 0.5 * duration_s, segment_.temp_sum_c / segment_.temp_count,
-                             stats.mean_dps()[static_cast<Eigen::Index>(axis)], r[static_cast<Eigen::Index>(axis)]);
-    }
+  if (segment_.temp_count > 0) {
+    models_.add_temperature_point(segment_.start_t_s + 0.5 * duration_s, segment_.temp_sum_c / segment_.temp_count,
+                                  stats.mean_dps(), r);
   }
   ++accepted_;
   last_still_t_s_ = segment_.start_t_s + duration_s;
@@ -134,42 +113,19 @@ SegmentVerdict AutoEstimator::close_segment() {
     return verdict;
   }
   const Vec3 mean = segment_.stats.mean_dps();
-  if (white_dps2_s_.isZero()) {
-    // Restored without a start-up segment and no configured density: treat samples as white.
-    white_dps2_s_ = segment_.stats.sigma_dps().cwiseAbs2() * (duration_s / segment_.stats.count());
-  }
-  const Vec3 r = white_dps2_s_ / duration_s;
-  bool mean_ok = true;
+  models_.assume_white_if_unknown(segment_.stats, duration_s);
+  const Vec3& white = models_.white_dps2_s();
+  const Vec3 r = white / duration_s;
+  SegmentEvidence evidence{
+      .mean_dps = mean, .duration_s = duration_s, .white_dps2_s = white, .walk_dps2_per_s = walk_dps2_per_s_};
   for (std::size_t axis = 0; axis < 3; ++axis) {
-    const auto a = static_cast<Eigen::Index>(axis);
-    const double predicted = filters_[axis].bias_dps();
-    const double sd = std::sqrt(filters_[axis].bias_variance() + r[a]);
-    mean_ok = mean_ok && std::abs(mean[a] - predicted) <= settings_.k_mean * sd;
+    evidence.predicted_dps[static_cast<Eigen::Index>(axis)] = filters_[axis].bias_dps();
+    evidence.predicted_var[static_cast<Eigen::Index>(axis)] = filters_[axis].bias_variance();
   }
-  if (previous_.usable) {
-    const double pooled_s = duration_s + previous_.duration_s;
-    for (Eigen::Index a = 0; a < 3; ++a) {
-      const double pooled_mean = (mean[a] * duration_s + previous_.mean_dps[a] * previous_.duration_s) / pooled_s;
-      const double sd =
-          std::sqrt(previous_.predicted_var[a] + walk_dps2_per_s_ * pooled_s + white_dps2_s_[a] / pooled_s);
-      mean_ok = mean_ok && std::abs(pooled_mean - previous_.predicted_dps[a]) <= settings_.k_mean_pooled * sd;
-    }
-  }
+  const Judgement judgement = judge_segment(evidence, previous_, settings_);
+  const bool mean_ok = judgement.mean_ok;
+  const bool same_lean = judgement.same_lean;
   verdict.mean_ok = mean_ok;
-  // A creep keeps its direction: this segment alone fails the mean test against the bias
-  // predicted before the first, and the first leans the same way by at least a sigma of its
-  // own. (The pooled test is no evidence here: it contains the first segment itself.) Noise
-  // leans either way, and an acceptance it would take back stands.
-  bool same_lean = false;
-  if (previous_.usable) {
-    const double first_lean = previous_.mean_dps.z() - previous_.predicted_dps.z();
-    const double first_sd = std::sqrt(previous_.predicted_var.z() + white_dps2_s_.z() / previous_.duration_s);
-    const double lean = mean.z() - previous_.predicted_dps.z();
-    const double sd = std::sqrt(previous_.predicted_var.z() + walk_dps2_per_s_ * (previous_.duration_s + duration_s) +
-                                white_dps2_s_.z() / duration_s);
-    same_lean = first_lean * lean > 0.0 && std::abs(lean) > settings_.retract_next_lean * sd &&
-                std::abs(first_lean) >= settings_.retract_min_lean * first_sd;
-  }
   if (!mean_ok && same_lean && hint_ == MotionHint::None && settings_.retract_before_creep)
     retract_last_accepted();
   else
@@ -213,18 +169,8 @@ void AutoEstimator::add_verdict_doubt(double deviation_dps, double sd_dps, doubl
   const double angle_deg = deviation_dps * duration_s;
   const double soft = settings_.soft_verdicts ? p_wrong : 0.0;
   const double correction_deg = accepted ? soft * angle_deg : -soft * angle_deg;
-  auto state = filters_[2].state();
-  state.angle_deg += correction_deg;
-  state.covariance(0, 0) += p_wrong * (1.0 - p_wrong) * angle_deg * angle_deg;
-  filters_[2].restore(state);
+  filters_[2].soften_verdict(correction_deg, p_wrong * (1.0 - p_wrong) * angle_deg * angle_deg);
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(correction_deg), Vec3::UnitZ()) * attitude_.attitude());
-}
-
-void AutoEstimator::track_vibration(const Vec3& rate_dps, double dt_s) {
-  const double diff = rate_dps.z() - previous_rate_z_dps_;
-  previous_rate_z_dps_ = rate_dps.z();
-  const double weight = std::min(1.0, dt_s / settings_.vibration_tau_s);
-  diff_var_z_ += weight * (diff * diff - diff_var_z_);
 }
 
 void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double end_t_s) {
@@ -250,10 +196,7 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
     last_accepted_.mean_dps = mean_dps;
     last_accepted_.r_dps2 = r_dps2;
   }
-  if (!settings_.arw_dps_rt_hz) {
-    pooled_noise_.add(segment_.blocks);
-    if (pooled_noise_.known()) white_dps2_s_ = pooled_noise_.density_squared();
-  }
+  models_.learn_from_still(segment_.blocks);
   last_accepted_.last_still_before_t_s = last_still_t_s_;
   // Only a stop after motion confirms the start-up level; segments running on from the
   // start-up without a gate trip may be the same turn going on.
@@ -265,33 +208,18 @@ void AutoEstimator::commit_last_accepted() {
   if (!last_accepted_.pending) return;
   last_accepted_.pending = false;
   if (!last_accepted_.has_temperature) return;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    const auto a = static_cast<Eigen::Index>(axis);
-    temperature_[axis].add(last_accepted_.mid_t_s, last_accepted_.temp_c, last_accepted_.mean_dps[a],
-                           last_accepted_.r_dps2[a]);
-  }
+  models_.add_temperature_point(last_accepted_.mid_t_s, last_accepted_.temp_c, last_accepted_.mean_dps,
+                                last_accepted_.r_dps2);
 }
 
 void AutoEstimator::retract_last_accepted() {
   if (!last_accepted_.pending) return;
   last_accepted_.pending = false;
-  // The filter is linear: what the current segment did to the state judged still, it would
-  // have done to the state judged moving. Carry the difference across it (F = [1, -T; 0, 1]).
-  const double t_s = segment_.duration_s;
-  Eigen::Matrix2d f;
-  f << 1.0, -t_s, 0.0, 1.0;
+  // As if the segment had been judged moving from the start (AxisFilter::carry_difference).
   double yaw_change_deg = 0.0;
   for (std::size_t axis = 0; axis < 3; ++axis) {
-    const auto& moving = last_accepted_.as_moving[axis];
-    const auto& still = last_accepted_.as_still[axis];
-    auto state = filters_[axis].state();
-    const double d_bias = moving.bias_dps - still.bias_dps;
-    const double d_angle = (moving.angle_deg - still.angle_deg) - t_s * d_bias;
-    state.angle_deg += d_angle;
-    state.bias_dps += d_bias;
-    state.covariance += f * (moving.covariance - still.covariance) * f.transpose();
-    state.covariance = 0.5 * (state.covariance + state.covariance.transpose()).eval();
-    filters_[axis].restore(state);
+    const double d_angle = filters_[axis].carry_difference(last_accepted_.as_moving[axis],
+                                                           last_accepted_.as_still[axis], segment_.duration_s);
     if (axis == 2) yaw_change_deg = d_angle;
   }
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_change_deg), Vec3::UnitZ()) * attitude_.attitude());
@@ -308,7 +236,8 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
     // The same level within the mean test's own scale: a steady signal, not a changing rate.
     const Vec3 run_mean = quiet_.mean_dps();
     for (Eigen::Index a = 0; a < 3; ++a) {
-      const double sd = std::sqrt(white_dps2_s_[a] / duration_s + white_dps2_s_[a] / quiet_.duration_s);
+      const Vec3& white = models_.white_dps2_s();
+      const double sd = std::sqrt(white[a] / duration_s + white[a] / quiet_.duration_s);
       agrees = agrees && std::abs(mean_dps[a] - run_mean[a]) <= settings_.k_mean * sd;
     }
   }
@@ -334,7 +263,7 @@ void AutoEstimator::recover_bias() {
   // The bias variance: the mean's own noise, plus the spread of the segment means, for a run
   // taken for a stop may still hold some slow motion.
   const Vec3 spread = (quiet_.sum_sq_dps2_s / quiet_.duration_s - mean.cwiseAbs2()).cwiseMax(0.0);
-  const Vec3 r = white_dps2_s_ / quiet_.duration_s + spread;
+  const Vec3 r = models_.white_dps2_s() / quiet_.duration_s + spread;
   const double run_start_s = segment_.start_t_s + segment_.duration_s - quiet_.duration_s;
   const double trusted_until_s = bias_from_startup_only_          ? startup_start_t_s_
                                  : std::isfinite(last_still_t_s_) ? last_still_t_s_
@@ -342,17 +271,12 @@ void AutoEstimator::recover_bias() {
   const double exposed_s = std::max(0.0, run_start_s - trusted_until_s);
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
-    AxisFilter::State state = quiet_.filters_at_start[axis];
-    const double change_deg = (mean[a] - state.bias_dps) * exposed_s;
-    state.bias_dps = mean[a];
-    state.covariance(0, 0) += change_deg * change_deg;
-    state.covariance(0, 1) = state.covariance(1, 0) = 0.0;
-    state.covariance(1, 1) = r[a];
-    filters_[axis].restore(state);
-    temperature_[axis] = TemperatureModel(settings_.temperature);  // it learned from the wrong level
+    const AxisFilter::State& from = quiet_.filters_at_start[axis];
+    const double change_deg = (mean[a] - from.bias_dps) * exposed_s;
+    filters_[axis].restart_bias(from, mean[a], r[a], change_deg * change_deg);
   }
   attitude_.set_attitude(quiet_.attitude_at_start);
-  if (!segments_.sigma_still_dps) sigma_still_dps_ = quiet_.sigma_dps.cwiseMax(kMinSigmaStillDps);
+  models_.relearn_after_recovery(quiet_.sigma_dps);
   last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
   previous_.usable = false;
   quiet_ = QuietRun{};
@@ -361,80 +285,96 @@ void AutoEstimator::recover_bias() {
 }
 
 void AutoEstimator::follow_temperature(double temp_c) {
-  if (!settings_.use_temperature || !std::isfinite(temp_c) || !std::isfinite(previous_temp_c_)) return;
-  const double delta_c = temp_c - previous_temp_c_;
-  if (delta_c == 0.0) return;
+  Vec3 shift, variance;
+  if (!models_.temperature_shift(temp_c, previous_temp_c_, shift, variance)) return;
   for (std::size_t axis = 0; axis < 3; ++axis) {
-    const auto& model = temperature_[axis];
-    if (!model.ready()) continue;
-    const double shift = model.slope_dps_per_c(temp_c) * delta_c;
-    const double variance = model.slope_variance() * delta_c * delta_c;
-    filters_[axis].shift_bias(shift, variance);
-    segment_.temperature_shift_dps[static_cast<Eigen::Index>(axis)] += shift;
-    segment_.temperature_shift_var[static_cast<Eigen::Index>(axis)] += variance;
+    if (!models_.temperature_model(static_cast<int>(axis)).ready()) continue;  // no shift, not even by zero
+    const auto a = static_cast<Eigen::Index>(axis);
+    filters_[axis].shift_bias(shift[a], variance[a]);
+    segment_.temperature_shift_dps[a] += shift[a];
+    segment_.temperature_shift_var[a] += variance[a];
   }
 }
 
+// One sample: hold still while the start-up segment measures; otherwise close the segment
+// when it is full or the range gate trips (judge it, apply the verdict), propagate the filter
+// and the attitude with the sample, and report.
 const Estimate& AutoEstimator::update(const Sample& sample) {
   estimate_.closed = SegmentVerdict{};
   if (!started_) {
-    started_ = true;
-    if (!std::isfinite(startup_start_t_s_)) startup_start_t_s_ = sample.t_s;
-    previous_t_s_ = sample.t_s;
-    previous_temp_c_ = sample.temp_c;
-    begin_segment(sample.t_s);
-    add_to_segment(sample, 0.0);
-    fill_estimate(sample);
+    start(sample);
     return estimate_;
   }
   const double dt_s = sample.t_s - previous_t_s_;
   previous_t_s_ = sample.t_s;
-
-  if (in_startup_) {
-    if (sample.t_s - segment_.start_t_s >= segments_.segment_s - kTimeEpsilonS) {
-      estimate_.closed = close_startup();
-      ++segment_index_;
-      begin_segment(sample.t_s);
-    } else {
-      add_to_segment(sample, dt_s);
-      previous_temp_c_ = sample.temp_c;
-      fill_estimate(sample);
-      return estimate_;
-    }
-  } else {
-    follow_temperature(sample.temp_c);
-    const bool full = sample.t_s - segment_.start_t_s >= segments_.segment_s - kTimeEpsilonS;
-    const bool trips = !full && range_gate_trips(sample.rate_dps);
-    if (full || trips) {
-      estimate_.closed = close_segment();
-      if (trips) {
-        previous_.usable = false;  // motion came between
-        motion_since_startup_ = true;
-      }
-      ++segment_index_;
-      begin_segment(sample.t_s);
-    }
+  if (in_startup_ && !segment_full(sample.t_s)) {
+    hold_during_startup(sample, dt_s);
+    return estimate_;
   }
+  estimate_.closed = close_segment_if_due(sample);
   previous_temp_c_ = sample.temp_c;
-
   add_to_segment(sample, dt_s);
-  track_vibration(sample.rate_dps, dt_s);
-  // Vibration is white at the sample rate: half the variance of sample differences, times
-  // dt, is its density squared. Still, the chip's own noise (N^2) dominates.
-  const double vibration_dps2_s = 0.5 * diff_var_z_ * dt_s;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    const auto a = static_cast<Eigen::Index>(axis);
-    const double white = axis == 2 ? std::max(white_dps2_s_[a], vibration_dps2_s) : white_dps2_s_[a];
-    filters_[axis].propagate(sample.rate_dps[a], dt_s, white, walk_dps2_per_s_);
-  }
-  const Vec3 bias(filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps());
-  attitude_.add(sample.rate_dps - bias, dt_s);
+  propagate(sample, dt_s);
   fill_estimate(sample);
   return estimate_;
 }
 
+void AutoEstimator::start(const Sample& sample) {
+  started_ = true;
+  if (!std::isfinite(startup_start_t_s_)) startup_start_t_s_ = sample.t_s;
+  previous_t_s_ = sample.t_s;
+  previous_temp_c_ = sample.temp_c;
+  begin_segment(sample.t_s);
+  add_to_segment(sample, 0.0);
+  fill_estimate(sample);
+}
+
+bool AutoEstimator::segment_full(double t_s) const {
+  return t_s - segment_.start_t_s >= segments_.segment_s - kTimeEpsilonS;
+}
+
+void AutoEstimator::hold_during_startup(const Sample& sample, double dt_s) {
+  add_to_segment(sample, dt_s);
+  previous_temp_c_ = sample.temp_c;
+  fill_estimate(sample);
+}
+
+SegmentVerdict AutoEstimator::close_segment_if_due(const Sample& sample) {
+  SegmentVerdict verdict;
+  if (in_startup_) {
+    verdict = close_startup();  // update() comes here only once the start-up segment is full
+  } else {
+    follow_temperature(sample.temp_c);
+    const bool full = segment_full(sample.t_s);
+    const bool trips = !full && range_gate_trips(sample.rate_dps);
+    if (!full && !trips) return verdict;
+    verdict = close_segment();
+    if (trips) {
+      previous_.usable = false;  // motion came between
+      motion_since_startup_ = true;
+    }
+  }
+  ++segment_index_;
+  begin_segment(sample.t_s);
+  return verdict;
+}
+
+void AutoEstimator::propagate(const Sample& sample, double dt_s) {
+  models_.track_vibration(sample.rate_dps, dt_s);
+  const Vec3 white = models_.process_white_dps2_s(dt_s);
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    filters_[axis].propagate(sample.rate_dps[a], dt_s, white[a], walk_dps2_per_s_);
+  }
+  attitude_.add(sample.rate_dps - bias_dps(), dt_s);
+}
+
+Vec3 AutoEstimator::bias_dps() const {
+  return {filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps()};
+}
+
 void AutoEstimator::fill_estimate(const Sample& sample) {
-  const Vec3 bias(filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps());
+  const Vec3 bias = bias_dps();
   estimate_.t_s = sample.t_s;
   estimate_.temp_c = sample.temp_c;
   estimate_.heading_deg = filters_[2].angle_deg();

@@ -19,7 +19,9 @@
 #include "core/bias_tracker.hpp"
 #include "core/estimate.hpp"
 #include "core/noise_density.hpp"
+#include "core/segment_judge.hpp"
 #include "core/segment_stats.hpp"
+#include "core/sensor_models.hpp"
 #include "core/temperature_model.hpp"
 
 namespace headingd::core {
@@ -38,20 +40,19 @@ class AutoEstimator {
   // Restores the noise figures learned before a restart (unless configured): without them a
   // restart that skips the start-up segment would have no scale for its stillness tests.
   void set_noise(const Vec3& sigma_still_dps, const Vec3& arw_dps_rt_hz) {
-    if (!segments_.sigma_still_dps && (sigma_still_dps.array() > 0).all()) sigma_still_dps_ = sigma_still_dps;
-    if (!settings_.arw_dps_rt_hz && (arw_dps_rt_hz.array() > 0).all()) white_dps2_s_ = arw_dps_rt_hz.cwiseAbs2();
+    models_.restore_noise(sigma_still_dps, arw_dps_rt_hz);
   }
   // Restores a learned temperature model (after a restart).
   void restore_temperature_model(int axis, const TemperatureModel::Sums& sums, std::uint32_t points) {
-    temperature_[static_cast<std::size_t>(axis)].restore(sums, points);
+    models_.restore_temperature_model(axis, sums, points);
   }
   // A heading fix at a reference point, with its variance.
   void set_heading(double heading_deg, double variance_deg2);
 
   bool in_startup() const { return in_startup_; }
-  const Vec3& sigma_still_dps() const { return sigma_still_dps_; }
-  Vec3 noise_density_dps_rt_hz() const { return white_dps2_s_.cwiseSqrt(); }
-  const TemperatureModel& temperature_model(int axis) const { return temperature_[static_cast<std::size_t>(axis)]; }
+  const Vec3& sigma_still_dps() const { return models_.sigma_still_dps(); }
+  Vec3 noise_density_dps_rt_hz() const { return models_.noise_density_dps_rt_hz(); }
+  const TemperatureModel& temperature_model(int axis) const { return models_.temperature_model(axis); }
   std::uint64_t accepted_segments() const { return accepted_; }
   std::uint64_t rejected_segments() const { return rejected_; }  // long enough, failed the mean test
   std::uint64_t cut_segments() const { return cut_; }            // cut by motion before min_segment_s
@@ -75,27 +76,25 @@ class AutoEstimator {
     Vec3 temperature_shift_var = Vec3::Zero();
   };
 
+  // The steps of update(), in order.
+  void start(const Sample& sample);
+  bool segment_full(double t_s) const;
+  void hold_during_startup(const Sample& sample, double dt_s);
+  SegmentVerdict close_segment_if_due(const Sample& sample);
+  void propagate(const Sample& sample, double dt_s);
+  void fill_estimate(const Sample& sample);
+
   void begin_segment(double t_s);
   void add_to_segment(const Sample& sample, double dt_s);
   bool range_gate_trips(const Vec3& rate_dps) const;
   SegmentVerdict close_startup();
+  // Judges a closed segment (segment_judge) and applies the verdict.
   SegmentVerdict close_segment();
   void accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double t_s);
   void follow_temperature(double temp_c);
   // Adds the variance of a possibly wrong still/moving verdict (see AutoSettings).
   void add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted);
-  void track_vibration(const Vec3& rate_dps, double dt_s);
-  void fill_estimate(const Sample& sample);
-
-  // The previous segment, kept for a pooled test over two: creep too slow to show in one
-  // segment's mean shows in two (the threshold falls with sqrt(T)).
-  struct Previous {
-    bool usable = false;  // long enough, and this segment follows it without a cut
-    Vec3 mean_dps = Vec3::Zero();
-    double duration_s = 0.0;
-    Vec3 predicted_dps = Vec3::Zero();  // bias predicted before it was judged
-    Vec3 predicted_var = Vec3::Zero();
-  };
+  Vec3 bias_dps() const;
 
   // The last accepted segment, until the next one is judged: the filter states at its end
   // judged moving and judged still, to take the acceptance back (retract_before_creep).
@@ -133,22 +132,17 @@ class AutoEstimator {
   bool motion_since_startup_ = false;  // the range gate has tripped since the start-up
 
   BiasSettings segments_;
-  Previous previous_;
+  PreviousSegment previous_;
   LastAccepted last_accepted_;
   AutoSettings settings_;
   std::array<AxisFilter, 3> filters_{};
-  std::array<TemperatureModel, 3> temperature_;
+  SensorModels models_;
   AttitudeIntegrator attitude_;
-  NoiseDensity pooled_noise_;
   Segment segment_;
   Estimate estimate_;
   MotionHint hint_ = MotionHint::None;
 
-  Vec3 sigma_still_dps_ = Vec3::Zero();
-  Vec3 white_dps2_s_ = Vec3::Zero();  // N^2 per axis
-  double walk_dps2_per_s_ = 0.0;      // q
-  double diff_var_z_ = 0.0;           // running mean of squared z sample differences, dps^2
-  double previous_rate_z_dps_ = 0.0;
+  double walk_dps2_per_s_ = 0.0;  // q
   bool started_ = false;
   bool in_startup_ = true;
   double previous_t_s_ = 0.0;

@@ -55,4 +55,42 @@ void AxisFilter::measure_angle(double angle_deg, double r_deg2) {
   p = 0.5 * (p + p.transpose()).eval();
 }
 
+void AxisFilter::set_bias(double bias_dps, double variance_dps2) {
+  state_.bias_dps = bias_dps;
+  state_.covariance(1, 1) = variance_dps2;
+  state_.covariance(0, 1) = state_.covariance(1, 0) = 0.0;
+}
+
+void AxisFilter::fix_angle(double angle_deg) {
+  state_.angle_deg = angle_deg;
+  state_.covariance(0, 0) = 0.0;
+  state_.covariance(0, 1) = state_.covariance(1, 0) = 0.0;
+}
+
+void AxisFilter::soften_verdict(double correction_deg, double variance_deg2) {
+  state_.angle_deg += correction_deg;
+  state_.covariance(0, 0) += variance_deg2;
+}
+
+double AxisFilter::carry_difference(const State& as_moving, const State& as_still, double span_s) {
+  Eigen::Matrix2d f;
+  f << 1.0, -span_s, 0.0, 1.0;
+  const double d_bias = as_moving.bias_dps - as_still.bias_dps;
+  const double d_angle = (as_moving.angle_deg - as_still.angle_deg) - span_s * d_bias;
+  state_.angle_deg += d_angle;
+  state_.bias_dps += d_bias;
+  state_.covariance += f * (as_moving.covariance - as_still.covariance) * f.transpose();
+  state_.covariance = 0.5 * (state_.covariance + state_.covariance.transpose()).eval();
+  return d_angle;
+}
+
+void AxisFilter::restart_bias(const State& from, double bias_dps, double bias_variance_dps2,
+                              double added_angle_variance_deg2) {
+  state_ = from;
+  state_.bias_dps = bias_dps;
+  state_.covariance(0, 0) += added_angle_variance_deg2;
+  state_.covariance(0, 1) = state_.covariance(1, 0) = 0.0;
+  state_.covariance(1, 1) = bias_variance_dps2;
+}
+
 }  // namespace headingd::core

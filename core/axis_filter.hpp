@@ -33,6 +33,22 @@ class AxisFilter {
   void measure_angle(double angle_deg, double r_deg2);
   void set_angle(double angle_deg) { state_.angle_deg = angle_deg; }
 
+  // The estimator's other edits of the state, each named for what it means:
+  // a bias known from outside (a restart) with its variance, uncorrelated with the angle;
+  void set_bias(double bias_dps, double variance_dps2);
+  // an exact heading fix: the angle is known, and so uncorrelated with anything;
+  void fix_angle(double angle_deg);
+  // a verdict that may be wrong: the angle moves by the expected correction and takes the
+  // variance of the two-point posterior;
+  void soften_verdict(double correction_deg, double variance_deg2);
+  // an accepted segment taken back: the filter is linear, so what the `span_s` since did to the
+  // state judged still it would have done to the state judged moving; carries the difference
+  // across that span (F = [1, -T; 0, 1]) and returns the angle change;
+  double carry_difference(const State& as_moving, const State& as_still, double span_s);
+  // the bias started again from `from` (a quiet run taken for a stop): the new level with its
+  // variance, and the angle's variance grown by what the old bias may have cost it.
+  void restart_bias(const State& from, double bias_dps, double bias_variance_dps2, double added_angle_variance_deg2);
+
   const State& state() const { return state_; }
   void restore(const State& state) { state_ = state; }
   double angle_deg() const { return state_.angle_deg; }

@@ -1,0 +1,63 @@
+#pragma once
+// What the auto estimator learns about its sensor and keeps up to date, apart from the filter:
+// the per-sample noise while still (sigma_still, the range gate's scale), the white-noise
+// density N (angle random walk, the mean test's scale), the vibration level while moving, and
+// a bias-versus-temperature model per axis. Configured values always win over learned ones.
+#include <array>
+#include <cstdint>
+
+#include "core/auto_settings.hpp"
+#include "core/bias_tracker.hpp"
+#include "core/noise_density.hpp"
+#include "core/segment_stats.hpp"
+#include "core/temperature_model.hpp"
+
+namespace headingd::core {
+
+class SensorModels {
+ public:
+  SensorModels(const BiasSettings& segments, const AutoSettings& settings);
+
+  // The start-up segment gives the first noise figures.
+  void learn_from_startup(const SegmentStats& stats, const BlockMeans& blocks, double duration_s);
+  // Every accepted still segment refines the density.
+  void learn_from_still(const BlockMeans& blocks);
+  // Restored without a start-up segment and nothing configured: samples are taken as white.
+  void assume_white_if_unknown(const SegmentStats& stats, double duration_s);
+  // A recovery restarts the bias from a quiet run: its noise is the new still noise, and the
+  // temperature model, which learned from the wrong level, starts over.
+  void relearn_after_recovery(const Vec3& sigma_dps);
+  // A still segment's mean at its mean temperature, once its verdict stands.
+  void add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2);
+  // The bias change per axis that the temperature models predict for a step from
+  // `previous_temp_c` to `temp_c`, with its variance; false when there is none to apply.
+  bool temperature_shift(double temp_c, double previous_temp_c, Vec3& shift_dps, Vec3& variance_dps2) const;
+  // Sample-to-sample differences of the z rate: vibration while moving.
+  void track_vibration(const Vec3& rate_dps, double dt_s);
+  // The white rate noise per axis for propagating one sample, N^2 (dps^2 s); on z, the
+  // vibration when it exceeds the chip's own noise.
+  Vec3 process_white_dps2_s(double dt_s) const;
+
+  // After a restart: the noise figures and the temperature models saved before.
+  void restore_noise(const Vec3& sigma_still_dps, const Vec3& arw_dps_rt_hz);
+  void restore_temperature_model(int axis, const TemperatureModel::Sums& sums, std::uint32_t points) {
+    temperature_[static_cast<std::size_t>(axis)].restore(sums, points);
+  }
+
+  const Vec3& sigma_still_dps() const { return sigma_still_dps_; }
+  const Vec3& white_dps2_s() const { return white_dps2_s_; }  // N^2 per axis
+  Vec3 noise_density_dps_rt_hz() const { return white_dps2_s_.cwiseSqrt(); }
+  const TemperatureModel& temperature_model(int axis) const { return temperature_[static_cast<std::size_t>(axis)]; }
+
+ private:
+  BiasSettings segments_;
+  AutoSettings settings_;
+  std::array<TemperatureModel, 3> temperature_;
+  NoiseDensity pooled_noise_;
+  Vec3 sigma_still_dps_ = Vec3::Zero();
+  Vec3 white_dps2_s_ = Vec3::Zero();
+  double diff_var_z_ = 0.0;  // running mean of squared z sample differences, dps^2
+  double previous_rate_z_dps_ = 0.0;
+};
+
+}  // namespace headingd::core
