@@ -51,7 +51,7 @@ void print_summary(const Summary& summary, const core::SampleSource& source, con
                span_s, span_s > 0 ? (samples - 1.0) / span_s : 0.0);
   if (const std::string counters = source.counters_text(); !counters.empty())
     std::fprintf(stderr, "  sensor       %s\n", counters.c_str());
-  print_estimator(estimator);
+  if (summary.command != "record") print_estimator(estimator);  // a recording is the samples alone
   if (summary.output) {
     std::fprintf(stderr, "  estimates    %llu rows to %s\n", static_cast<unsigned long long>(summary.rows),
                  *summary.output == "-" ? "standard output" : summary.output->c_str());

@@ -285,14 +285,13 @@ void AutoEstimator::recover_bias() {
 }
 
 void AutoEstimator::follow_temperature(double temp_c) {
-  Vec3 shift, variance;
-  if (!models_.temperature_shift(temp_c, previous_temp_c_, shift, variance)) return;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    if (!models_.temperature_model(static_cast<int>(axis)).ready()) continue;  // no shift, not even by zero
-    const auto a = static_cast<Eigen::Index>(axis);
-    filters_[axis].shift_bias(shift[a], variance[a]);
-    segment_.temperature_shift_dps[a] += shift[a];
-    segment_.temperature_shift_var[a] += variance[a];
+  if (!models_.follows_temperature(temp_c, previous_temp_c_)) return;
+  for (int axis = 0; axis < 3; ++axis) {
+    double shift = 0.0, variance = 0.0;
+    if (!models_.temperature_shift(axis, temp_c, previous_temp_c_, shift, variance)) continue;
+    filters_[static_cast<std::size_t>(axis)].shift_bias(shift, variance);
+    segment_.temperature_shift_dps[axis] += shift;
+    segment_.temperature_shift_var[axis] += variance;
   }
 }
 
@@ -361,10 +360,9 @@ SegmentVerdict AutoEstimator::close_segment_if_due(const Sample& sample) {
 
 void AutoEstimator::propagate(const Sample& sample, double dt_s) {
   models_.track_vibration(sample.rate_dps, dt_s);
-  const Vec3 white = models_.process_white_dps2_s(dt_s);
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    const auto a = static_cast<Eigen::Index>(axis);
-    filters_[axis].propagate(sample.rate_dps[a], dt_s, white[a], walk_dps2_per_s_);
+  for (int axis = 0; axis < 3; ++axis) {
+    filters_[static_cast<std::size_t>(axis)].propagate(sample.rate_dps[axis], dt_s,
+                                                       models_.process_white_dps2_s(axis, dt_s), walk_dps2_per_s_);
   }
   attitude_.add(sample.rate_dps - bias_dps(), dt_s);
 }

@@ -50,39 +50,6 @@ void SensorModels::add_temperature_point(double mid_t_s, double temp_c, const Ve
   }
 }
 
-bool SensorModels::temperature_shift(double temp_c, double previous_temp_c, Vec3& shift_dps,
-                                     Vec3& variance_dps2) const {
-  if (!settings_.use_temperature || !std::isfinite(temp_c) || !std::isfinite(previous_temp_c)) return false;
-  const double delta_c = temp_c - previous_temp_c;
-  if (delta_c == 0.0) return false;
-  shift_dps.setZero();
-  variance_dps2.setZero();
-  bool any = false;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    const auto& model = temperature_[axis];
-    if (!model.ready()) continue;
-    const auto a = static_cast<Eigen::Index>(axis);
-    shift_dps[a] = model.slope_dps_per_c(temp_c) * delta_c;
-    variance_dps2[a] = model.slope_variance() * delta_c * delta_c;
-    any = true;
-  }
-  return any;
-}
-
-void SensorModels::track_vibration(const Vec3& rate_dps, double dt_s) {
-  const double diff = rate_dps.z() - previous_rate_z_dps_;
-  previous_rate_z_dps_ = rate_dps.z();
-  const double weight = std::min(1.0, dt_s / settings_.vibration_tau_s);
-  diff_var_z_ += weight * (diff * diff - diff_var_z_);
-}
-
-Vec3 SensorModels::process_white_dps2_s(double dt_s) const {
-  // Vibration is white at the sample rate: half the variance of sample differences, times
-  // dt, is its density squared. Still, the chip's own noise (N^2) dominates.
-  const double vibration_dps2_s = 0.5 * diff_var_z_ * dt_s;
-  return {white_dps2_s_.x(), white_dps2_s_.y(), std::max(white_dps2_s_.z(), vibration_dps2_s)};
-}
-
 void SensorModels::restore_noise(const Vec3& sigma_still_dps, const Vec3& arw_dps_rt_hz) {
   if (!segments_.sigma_still_dps && (sigma_still_dps.array() > 0).all()) sigma_still_dps_ = sigma_still_dps;
   if (!settings_.arw_dps_rt_hz && (arw_dps_rt_hz.array() > 0).all()) white_dps2_s_ = arw_dps_rt_hz.cwiseAbs2();

@@ -3,7 +3,9 @@
 // the per-sample noise while still (sigma_still, the range gate's scale), the white-noise
 // density N (angle random walk, the mean test's scale), the vibration level while moving, and
 // a bias-versus-temperature model per axis. Configured values always win over learned ones.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "core/auto_settings.hpp"
@@ -29,14 +31,36 @@ class SensorModels {
   void relearn_after_recovery(const Vec3& sigma_dps);
   // A still segment's mean at its mean temperature, once its verdict stands.
   void add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2);
-  // The bias change per axis that the temperature models predict for a step from
-  // `previous_temp_c` to `temp_c`, with its variance; false when there is none to apply.
-  bool temperature_shift(double temp_c, double previous_temp_c, Vec3& shift_dps, Vec3& variance_dps2) const;
+  // Whether the bias follows a temperature step from `previous_temp_c` to `temp_c` at all.
+  bool follows_temperature(double temp_c, double previous_temp_c) const {
+    return settings_.use_temperature && std::isfinite(temp_c) && std::isfinite(previous_temp_c) &&
+           temp_c != previous_temp_c;
+  }
+  // The bias change on one axis that its temperature model predicts for that step, with its
+  // variance; false while the model is not in use. (Inline: it runs on every sample.)
+  bool temperature_shift(int axis, double temp_c, double previous_temp_c, double& shift_dps,
+                         double& variance_dps2) const {
+    const TemperatureModel& model = temperature_[static_cast<std::size_t>(axis)];
+    if (!model.ready()) return false;
+    const double delta_c = temp_c - previous_temp_c;
+    shift_dps = model.slope_dps_per_c(temp_c) * delta_c;
+    variance_dps2 = model.slope_variance() * delta_c * delta_c;
+    return true;
+  }
   // Sample-to-sample differences of the z rate: vibration while moving.
-  void track_vibration(const Vec3& rate_dps, double dt_s);
-  // The white rate noise per axis for propagating one sample, N^2 (dps^2 s); on z, the
-  // vibration when it exceeds the chip's own noise.
-  Vec3 process_white_dps2_s(double dt_s) const;
+  void track_vibration(const Vec3& rate_dps, double dt_s) {
+    const double diff = rate_dps.z() - previous_rate_z_dps_;
+    previous_rate_z_dps_ = rate_dps.z();
+    const double weight = std::min(1.0, dt_s / settings_.vibration_tau_s);
+    diff_var_z_ += weight * (diff * diff - diff_var_z_);
+  }
+  // The white rate noise N^2 (dps^2 s) on `axis` for propagating one sample; on z, the
+  // vibration when it exceeds the chip's own noise. Vibration is white at the sample rate:
+  // half the variance of sample differences, times dt, is its density squared.
+  double process_white_dps2_s(int axis, double dt_s) const {
+    const double white = white_dps2_s_[axis];
+    return axis == 2 ? std::max(white, 0.5 * diff_var_z_ * dt_s) : white;
+  }
 
   // After a restart: the noise figures and the temperature models saved before.
   void restore_noise(const Vec3& sigma_still_dps, const Vec3& arw_dps_rt_hz);

@@ -64,7 +64,8 @@ class L3gd20h final : public core::SampleSource {
   // does not complete, configuration that does not read back) or I2cError.
   void start();
   // Waits for samples and returns them; recovers from faults by itself. Returns 0 only once
-  // the stop flag is set.
+  // the stop flag is set; throws DriverError when no sample came for give_up_s while every
+  // recovery failed (a dead sensor).
   std::size_t read(std::span<core::Sample> out) override;
   void close() override;  // powers the chip down (best effort)
   std::string describe() const override;

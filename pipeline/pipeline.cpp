@@ -45,7 +45,8 @@ void Pipeline::apply_commands() {
 Outcome Pipeline::run() {
   Outcome outcome;
   std::vector<core::Sample> batch(options_.batch);
-  bool started = false;
+  bool started = false;  // outcome.first_t_s is set
+  std::size_t done = 0;  // samples of the current batch through the estimator and the sinks
   try {
     while (true) {
       if (stop_requested()) {
@@ -53,6 +54,7 @@ Outcome Pipeline::run() {
         break;
       }
       std::size_t count = 0;
+      done = 0;
       try {
         count = source_.read(batch);
       } catch (const drivers::InputError& error) {
@@ -60,8 +62,6 @@ Outcome Pipeline::run() {
         outcome.error = error.what();
         outcome.exception = std::current_exception();
         break;
-      } catch (const app::OutputError&) {
-        throw;
       } catch (const std::exception& error) {
         outcome.ending = Ending::SourceFailed;
         outcome.error = error.what();
@@ -72,19 +72,22 @@ Outcome Pipeline::run() {
         outcome.ending = stop_requested() ? Ending::Signal : Ending::EndOfInput;
         break;
       }
-      for (std::size_t i = 0; i < count; ++i) {
-        const core::Sample& sample = batch[i];
-        if (!started) {
-          started = true;
-          outcome.first_t_s = sample.t_s;
-        }
-        if (stop_requested() || (options_.pacer && !options_.pacer->wait(sample))) break;
+      if (!started) {
+        started = true;
+        outcome.first_t_s = batch[0].t_s;
+      }
+      // The hot loop: nothing here that a batch can do once. A stop is seen per batch, or by
+      // the pacer per sample (a recording in real time may sit in one batch for seconds).
+      for (; done < count; ++done) {
+        const core::Sample& sample = batch[done];
+        if (options_.pacer && !options_.pacer->wait(sample)) break;
         if (inbox_ != nullptr) apply_commands();
         const core::Estimate& estimate = estimator_->update(sample);
-        outcome.last_t_s = sample.t_s;
-        ++outcome.samples;
         for (Sink* sink : sinks_) sink->add(sample, estimate, *estimator_);
       }
+      outcome.samples += done;
+      if (done > 0) outcome.last_t_s = batch[done - 1].t_s;
+      done = 0;
       for (Sink* sink : sinks_) sink->batch_done(*estimator_, source_);
       if (reloader_ && app::take_reload_request()) {
         if (auto next = reloader_(*estimator_)) estimator_ = std::move(next);
@@ -95,6 +98,7 @@ Outcome Pipeline::run() {
       }
     }
   } catch (const std::exception& error) {  // a sink could not write (OutputError) or failed otherwise
+    outcome.samples += done;               // those the sinks had taken before the failure
     outcome.ending = Ending::OutputFailed;
     outcome.error = error.what();
     outcome.exception = std::current_exception();
