@@ -83,7 +83,7 @@ Outcome Pipeline::run() {
         if (options_.pacer && !options_.pacer->wait(sample)) break;
         if (inbox_ != nullptr) apply_commands();
         const core::Estimate& estimate = estimator_->update(sample);
-        for (Sink* sink : sinks_) sink->add(sample, estimate, *estimator_);
+        for (Sink* sink : sample_sinks_) sink->add(sample, estimate, *estimator_);
       }
       outcome.samples += done;
       if (done > 0) outcome.last_t_s = batch[done - 1].t_s;

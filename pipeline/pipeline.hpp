@@ -55,7 +55,10 @@ class Pipeline {
   Pipeline(core::SampleSource& source, std::unique_ptr<core::Estimator> estimator, PipelineOptions options);
 
   // Sinks are told in the order added and finished in reverse. Not owned.
-  void add_sink(Sink& sink) { sinks_.push_back(&sink); }
+  void add_sink(Sink& sink) {
+    sinks_.push_back(&sink);
+    if (sink.wants_samples()) sample_sinks_.push_back(&sink);
+  }
   void set_inbox(CommandInbox* inbox) { inbox_ = inbox; }
   // Called after a batch when SIGHUP asked for a reload; returns the estimator to go on with,
   // or null to keep the running one.
@@ -76,6 +79,7 @@ class Pipeline {
   std::unique_ptr<core::Estimator> estimator_;
   PipelineOptions options_;
   std::vector<Sink*> sinks_;
+  std::vector<Sink*> sample_sinks_;  // those of sinks_ that want every sample
   CommandInbox* inbox_ = nullptr;
   Reloader reloader_;
   std::vector<app::ValidCommand> commands_;

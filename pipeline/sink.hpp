@@ -18,6 +18,8 @@ class Sink {
   virtual ~Sink() = default;
   // Every sample, in order, with the estimate it produced. May throw OutputError.
   virtual void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) = 0;
+  // False for sinks that only act per batch and at the end: the hot loop skips their add().
+  virtual bool wants_samples() const { return true; }
   // After each batch from the source. May throw OutputError.
   virtual void batch_done(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) {}
   // Once, at the end of the run, whatever ended it. May throw OutputError; the other sinks

@@ -16,6 +16,7 @@ class StateSink final : public Sink {
   StateSink(std::string path, double interval_s);
   void add(const core::Sample& /*sample*/, const core::Estimate& /*estimate*/,
            const core::Estimator& /*estimator*/) override {}
+  bool wants_samples() const override { return false; }
   void batch_done(const core::Estimator& estimator, const core::SampleSource& source) override;
   void finish(const core::Estimator& estimator, const core::SampleSource& source) override;
 
