@@ -61,6 +61,7 @@ int subscriber(const app::DdsSettings& settings, int out_fd) {
   listener.us.reserve(20000);
   DataReaderQos qos = DATAREADER_QOS_DEFAULT;
   qos.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
+  app::apply_transport(settings, qos);
   sub->create_datareader(topic, qos, &listener);
   std::this_thread::sleep_for(std::chrono::duration<double>(kSeconds + 4.0));
   app::delete_participant(participant);

@@ -103,15 +103,22 @@ DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()),
     stream.reliability().kind = settings.orientation_reliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
     stream.durability().kind = VOLATILE_DURABILITY_QOS;
     stream.history().kind = KEEP_LAST_HISTORY_QOS;
-    stream.history().depth = settings.orientation_reliable ? 100 : 1;
+    // Best effort keeps the newest kOrientationBurst: one FIFO wake-up can make several
+    // messages due back to back (a 400 Hz chip waking at 24 Hz, published at 50 Hz: 2-3), and
+    // a history of one dropped the first of each pair. A reader that falls further behind
+    // loses the oldest, never the newest; reliable keeps 100 and blocks at most 100 ms.
+    stream.history().depth = settings.orientation_reliable ? 100 : kOrientationBurst;
     // A subscriber can ask to hear about it when messages stop: promise 3 periods at most.
     stream.deadline().period = eprosima::fastrtps::Duration_t(3.0 / settings.orientation_rate_hz);
+
+    apply_transport(settings, stream);
 
     DataWriterQos latched = DATAWRITER_QOS_DEFAULT;  // bias and status: the latest for late joiners
     latched.reliability().kind = RELIABLE_RELIABILITY_QOS;
     latched.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
     latched.history().kind = KEEP_LAST_HISTORY_QOS;
     latched.history().depth = 1;
+    apply_transport(settings, latched);
 
     d.orientation =
         d.writer(d.topic(topic_name(settings, "orientation"), TypeSupport(new headingd::msg::OrientationPubSubType())),
@@ -128,6 +135,7 @@ DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()),
     command_qos.reliability().kind = RELIABLE_RELIABILITY_QOS;
     command_qos.history().kind = KEEP_LAST_HISTORY_QOS;
     command_qos.history().depth = 16;
+    apply_transport(settings, command_qos);
     d.command = d.subscriber->create_datareader(
         d.topic(topic_name(settings, "command"), TypeSupport(new headingd::msg::HeadingCommandPubSubType())),
         command_qos, &d);

@@ -27,6 +27,10 @@ struct StatusReport {
   double uptime_s = 0.0;
 };
 
+// The most Orientation (and Imu) messages one wake-up of the sensor can make due at once, with
+// margin: the best-effort writer keeps this many, and so should a reader that wants them all.
+inline constexpr int kOrientationBurst = 8;
+
 class DdsNode {
  public:
   // Throws std::runtime_error naming what could not be created.

@@ -1,6 +1,7 @@
 #include "dds/dds_participant.hpp"
 
 #include <fastdds/rtps/attributes/ServerAttributes.h>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
 #include <cstdlib>
@@ -8,6 +9,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/log/Log.hpp>
+#include <memory>
 #include <stdexcept>
 
 #include "dds/server_address.hpp"
@@ -16,6 +18,7 @@ namespace headingd::app {
 
 using namespace eprosima::fastdds::dds;
 using eprosima::fastdds::rtps::get_server_client_default_guidPrefix;
+using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
 using eprosima::fastrtps::rtps::DiscoveryProtocol_t;
 using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
@@ -25,6 +28,21 @@ double wall_now_s() {
   timespec ts{};
   clock_gettime(CLOCK_REALTIME, &ts);
   return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+}
+
+// A participant profile named "headingd" in the configured XML decides the transports itself.
+bool from_profile_in_force(const DdsSettings& settings, DomainParticipantFactory* factory) {
+  DomainParticipantQos unused;
+  return settings.profiles_xml &&
+         factory->get_participant_qos_from_profile("headingd", unused) == ReturnCode_t::RETCODE_OK;
+}
+
+void apply_transport(const DdsSettings& settings, DataWriterQos& qos) {
+  if (settings.transport != DdsTransport::SharedMemory) qos.data_sharing().off();
+}
+
+void apply_transport(const DdsSettings& settings, DataReaderQos& qos) {
+  if (settings.transport != DdsTransport::SharedMemory) qos.data_sharing().off();
 }
 
 DomainParticipant* create_participant(const DdsSettings& settings, const std::string& name) {
@@ -44,6 +62,11 @@ DomainParticipant* create_participant(const DdsSettings& settings, const std::st
       factory->get_participant_qos_from_profile("headingd", from_profile) == ReturnCode_t::RETCODE_OK)
     qos = from_profile;
   qos.name(name);
+  if (!from_profile_in_force(settings, factory) && settings.transport == DdsTransport::Udp) {
+    // UDP alone, on every interface (loopback included): see DdsTransport for why not SHM.
+    qos.transport().use_builtin_transports = false;
+    qos.transport().user_transports.push_back(std::make_shared<UDPv4TransportDescriptor>());
+  }
   for (std::size_t id = 0; id < settings.discovery_servers.size(); ++id) {
     const std::string& text = settings.discovery_servers[id];
     if (text.empty()) continue;

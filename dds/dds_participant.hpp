@@ -3,6 +3,8 @@
 // profiles loaded first (when configured), the Discovery Server client set up (when
 // configured), everything deleted on the way out.
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <string>
 
 #include "dds/dds_settings.hpp"
@@ -11,6 +13,10 @@ namespace headingd::app {
 
 eprosima::fastdds::dds::DomainParticipant* create_participant(const DdsSettings& settings, const std::string& name);
 void delete_participant(eprosima::fastdds::dds::DomainParticipant* participant);
+// Data sharing (a reader mapping the writer's /dev/shm segment) follows the transport: off
+// unless shared memory was chosen, for the same reason (segments only their owner can map).
+void apply_transport(const DdsSettings& settings, eprosima::fastdds::dds::DataWriterQos& qos);
+void apply_transport(const DdsSettings& settings, eprosima::fastdds::dds::DataReaderQos& qos);
 // Wall-clock time now, s (the epoch of message stamps).
 double wall_now_s();
 

@@ -19,6 +19,15 @@ struct DdsSecurity {
   std::string permissions;     // signed permissions document (S/MIME)
 };
 
+// How messages travel between processes on this host.
+//  - Udp: UDP only (loopback and the host's interfaces), no shared memory and no data sharing.
+//    Works between Unix users and between containers that share no IPC: the default.
+//  - SharedMemory: Fast DDS's builtin shared-memory transport and data sharing besides UDP.
+//    Fast DDS 2.9 creates its /dev/shm segments readable by their owner's user only (it has no
+//    setting for their permissions), so only processes of the same user (and IPC namespace)
+//    can take them; others fall back to nothing at all. Opt in only for that case.
+enum class DdsTransport { Udp, SharedMemory };
+
 struct DdsSettings {
   int domain_id = 0;                // [0, 232]
   std::string prefix = "headingd";  // topics PREFIX/orientation, /bias, /status, /command
@@ -26,9 +35,10 @@ struct DdsSettings {
   bool publish_imu = true;          // sensor_msgs/msg/Imu on rt/IMU_TOPIC
   std::string imu_topic = "imu";
   std::string frame_id = "imu_link";
-  double orientation_rate_hz = 50.0;        // Orientation and Imu messages per second (0, 1000]
-  bool orientation_reliable = false;        // false: best-effort (latest wins); true: reliable
-  std::optional<std::string> profiles_xml;  // Fast DDS XML profiles (override our QoS)
+  double orientation_rate_hz = 50.0;           // Orientation and Imu messages per second (0, 1000]
+  bool orientation_reliable = false;           // false: best-effort (latest wins); true: reliable
+  std::optional<std::string> profiles_xml;     // Fast DDS XML profiles (override our QoS)
+  DdsTransport transport = DdsTransport::Udp;  // unless a "headingd" participant profile says otherwise
   // Fast DDS Discovery Servers as IPV4:PORT, the position in the list being the server id
   // (`fastdds discovery -i ID`), as in ROS_DISCOVERY_SERVER; "" skips an id. Empty: multicast.
   std::vector<std::string> discovery_servers;

@@ -279,7 +279,15 @@ void read_dds(const TableReader& r, DdsSettings& d) {
           d.orientation_reliable = r.boolean(node, key);
         else if (name == "profiles_xml")
           d.profiles_xml = text_of(r.file(), node, key);
-        else if (name == "discovery_server") {
+        else if (name == "transport") {
+          const std::string value = text_of(r.file(), node, key);
+          if (value == "udp")
+            d.transport = DdsTransport::Udp;
+          else if (value == "shm")
+            d.transport = DdsTransport::SharedMemory;
+          else
+            fail(r.file(), node, key, "is " + shown(node) + ", allowed \"udp\" or \"shm\"");
+        } else if (name == "discovery_server") {
           d.discovery_servers = server_list(r.file(), node, key);
         } else if (name == "command_max_age_s")
           d.command_limits.max_age_s = r.number(node, key, 0.0, 3600.0, true);
@@ -288,6 +296,7 @@ void read_dds(const TableReader& r, DdsSettings& d) {
         return true;
       },
       "domain_id, prefix, ros2_naming, publish_imu, imu_topic, frame_id, orientation_rate_hz, orientation_reliable, "
+      "transport, "
       "profiles_xml, discovery_server, command_max_age_s, [dds.security]");
 }
 

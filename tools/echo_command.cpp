@@ -97,6 +97,7 @@ int run_echo(const EchoOptions& options) {
       qos.durability().kind = latched ? TRANSIENT_LOCAL_DURABILITY_QOS : VOLATILE_DURABILITY_QOS;
       qos.history().kind = KEEP_LAST_HISTORY_QOS;
       qos.history().depth = latched ? 1 : 100;
+      apply_transport(settings, qos);
       if (topic == nullptr || subscriber->create_datareader(topic, qos, listener) == nullptr)
         throw std::runtime_error("cannot subscribe to " + name);
     };
@@ -170,6 +171,7 @@ int run_command(const CommandOptions& options) {
     Publisher* publisher = participant->create_publisher(PUBLISHER_QOS_DEFAULT);
     DataWriterQos qos = DATAWRITER_QOS_DEFAULT;
     qos.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    apply_transport(settings, qos);
     DataWriter* writer = publisher->create_datawriter(topic, qos);
     if (writer == nullptr) throw std::runtime_error("cannot create the HeadingCommand writer");
     // Wait for the daemon's reader, so the one message is not sent into the void.

@@ -6,7 +6,7 @@ headingd="$1"
 root="$2"
 dir="$(mktemp -d)"
 trap 'rm -rf "$dir"' EXIT
-printf '[dds]\ndomain_id = 43\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$root" >"$dir/cfg.toml"
+printf '[dds]\ndomain_id = 43\ntransport = "shm"\nprofiles_xml = "%s/config/fastdds-loopback-shm.xml"\n' "$root" >"$dir/cfg.toml"
 ls /dev/shm | sort >"$dir/before"
 "$headingd" replay "$root/tests/data/agv-1min/imu.csv" --speed realtime -c "$dir/cfg.toml" -o /dev/null -q &
 pid=$!

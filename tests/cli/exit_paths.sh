@@ -3,7 +3,7 @@
 # that cannot be written (/dev/full) and a dead sensor each leave a fresh state file, send
 # STOPPING=1 on a real notify socket, and leave nothing in /dev/shm (each run gets a /dev/shm
 # of its own, a tmpfs in a mount namespace made here, so other processes' files cannot hide
-# or fake a leak). DDS is on in every case, over the shipped loopback profile.
+# or fake a leak). DDS is on in every case, with shared memory (config/fastdds-loopback-shm.xml).
 # Usage: exit_paths.sh HEADINGD NOTIFY_LISTENER SOURCE_ROOT
 set -uo pipefail
 headingd="$1"
@@ -12,7 +12,8 @@ root="$3"
 dir="$(mktemp -d)"
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
-printf '[dds]\ndomain_id = 49\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$root" >"$dir/cfg.toml"
+# Shared memory on (the opt-in profile), so there are segments whose removal is checked.
+printf '[dds]\ndomain_id = 49\ntransport = "shm"\nprofiles_xml = "%s/config/fastdds-loopback-shm.xml"\n' "$root" >"$dir/cfg.toml"
 recording="$root/tests/data/agv-1min/imu.csv"
 
 # run_case NAME EXPECTED_EXIT SIGTERM_AFTER_S ARGS...: runs headingd in its own /dev/shm with

@@ -53,6 +53,7 @@ void churn(const app::DdsSettings& settings, const std::atomic<bool>& done, std:
     auto* sub = participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
     DataReaderQos qos = DATAREADER_QOS_DEFAULT;
     qos.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
+    app::apply_transport(settings, qos);
     sub->create_datareader(topic, qos);
     for (int i = 0; i < 20 && !done.load(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(25));
     app::delete_participant(participant);
