@@ -6,6 +6,7 @@
 // mode's repeated first sample after a drain, a self-clearing software reset, the INT2 level
 // and its edges. Time is simulated: it moves with bus transactions, waits and sleeps.
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -120,7 +121,9 @@ class L3gd20hSimulator final : public I2cBus, public DataReady {
   bool i2c_disabled_ = false;
   std::int64_t dead_after_ns_ = -1;
   bool realtime_ = false;
-  void pace(std::int64_t simulated_ns);
+  std::optional<std::chrono::steady_clock::time_point> wall_anchor_;  // wall time of simulated 0
+  // Sleeps until the wall clock has caught up with the simulated clock (realtime only).
+  void pace();
   std::optional<std::int64_t> pending_edge_ns_;
 };
 
