@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "hw/gpiod_data_ready.hpp"
+#include "hw/kernel_binding.hpp"
 #include "hw/linux_i2c_bus.hpp"
 #include "hw/sensor_limits.hpp"
 
@@ -33,6 +34,9 @@ LiveSource::LiveSource(const SensorOptions& options) : options_(options) {
     bus = simulator_.get();
     ready = simulator_.get();
   } else {
+    // Before the bus is even opened: a kernel driver that owns the chip is never overridden.
+    if (const auto driver = drivers::bound_kernel_driver(drivers::sysfs_root(), options.bus, options.address))
+      throw std::runtime_error(drivers::kernel_driver_message(options.bus, options.address, *driver));
     bus_ = std::make_unique<drivers::LinuxI2cBus>(options.bus);
     if (options.gpio_chip) {
       drivers::GpioLineSettings line;

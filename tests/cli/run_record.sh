@@ -36,3 +36,21 @@ echo "ok: missing bus -> exit 66: $out"
 out=$("$headingd" record --gpio-chip gpiochip7 --bus /dev/null --output "$dir/x.csv" 2>&1); rc=$?
 [ "$rc" -eq 66 ] && grep -q "/dev/null is not an I2C adapter" <<<"$out" || fail "not an adapter: exit $rc: $out"
 echo "ok: not an adapter -> exit 66: $out"
+
+# A kernel driver bound to the chip (a fake sysfs tree: st_gyro's I2C driver on client 1-006b):
+# run and record refuse before opening the bus, naming the driver and the fix. The "adapter"
+# is a plain file here, so an open or a write would show (it would fail as "not an I2C adapter").
+mkdir -p "$dir/sys/bus/i2c/devices/1-006b" "$dir/sys/bus/i2c/drivers/st-gyro-i2c"
+ln -s ../../../../bus/i2c/drivers/st-gyro-i2c "$dir/sys/bus/i2c/devices/1-006b/driver"
+printf 'untouched' >"$dir/i2c-1"
+for cmd in "run --no-dds --duration 1" "record --output $dir/never.csv --duration 1"; do
+  # shellcheck disable=SC2086
+  out=$(HEADINGD_SYSFS_ROOT="$dir/sys" "$headingd" $cmd --bus "$dir/i2c-1" 2>&1); rc=$?
+  [ "$rc" -eq 66 ] && grep -q "bound to the kernel driver 'st-gyro-i2c' (I2C client 1-006b)" <<<"$out" &&
+    grep -q "/sys/bus/i2c/drivers/st-gyro-i2c/unbind" <<<"$out" || fail "bound driver, ${cmd%% *}: exit $rc: $out"
+  [ "$(cat "$dir/i2c-1")" = untouched ] || fail "bound driver, ${cmd%% *}: the adapter was written"
+done
+[ ! -e "$dir/never.csv" ] || fail "record created its output despite the bound driver"
+out=$(HEADINGD_SYSFS_ROOT="$dir/sys" "$headingd" run --no-dds --duration 1 --bus "$dir/i2c-1" --address 0x6A 2>&1)
+grep -q "not an I2C adapter" <<<"$out" || fail "a driver on 0x6B must not block 0x6A: $out"
+echo "ok: a bound kernel driver is refused by name with the fix; the adapter untouched"
