@@ -31,6 +31,7 @@ int exit_code(pipeline::Ending ending) {
     case pipeline::Ending::EndOfInput:
     case pipeline::Ending::Duration:
     case pipeline::Ending::Signal:
+    case pipeline::Ending::OutputClosed:
       return kExitOk;
     case pipeline::Ending::BadInput:
       return kExitDataError;

@@ -19,6 +19,7 @@
 #include "core/units.hpp"
 #include "core/version.hpp"
 #include "dds/dds_participant.hpp"
+#include "dds/shm_cleanup.hpp"
 #include "dds/wire_method.hpp"
 #include "headingdPubSubTypes.h"
 #include "sensor_msgs_ImuPubSubTypes.h"
@@ -92,6 +93,12 @@ struct DdsNode::Impl : public DataReaderListener {
 DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()), settings_(settings) {
   Impl& d = *impl_;
   d.limits = settings.command_limits;
+  if (settings.transport == DdsTransport::SharedMemory) {
+    // What a killed headingd (or any process of ours) left in /dev/shm goes before we add ours.
+    if (const std::size_t removed = remove_stale_fastdds_files("/dev/shm"))
+      std::fprintf(stderr, "<5>headingd: removed %zu shared-memory files of Fast DDS processes that are gone\n",
+                   removed);
+  }
   try {
     d.participant = create_participant(settings, "headingd");
     d.publisher = d.participant->create_publisher(PUBLISHER_QOS_DEFAULT);

@@ -88,7 +88,10 @@ void CsvOut::line(std::string_view whole_line) {
 void CsvOut::flush() {
   if (file_ == nullptr) return;
   if (used_ > 0 && std::fwrite(buffer_.data(), 1, used_, file_) != used_) {
-    throw OutputError("cannot write " + path_ + ": " + std::strerror(errno));
+    const int error = errno;
+    used_ = 0;  // what could not be written is gone: a later flush must not fail on it again
+    if (error == EPIPE) throw OutputClosed(path_ + ": the reader closed it");
+    throw OutputError("cannot write " + path_ + ": " + std::strerror(error));
   }
   used_ = 0;
 }
@@ -99,6 +102,7 @@ void CsvOut::close() {
   std::FILE* file = file_;
   file_ = nullptr;
   const bool failed = owns_file_ ? std::fclose(file) != 0 : std::fflush(file) != 0;
+  if (failed && errno == EPIPE) throw OutputClosed(path_ + ": the reader closed it");
   if (failed) throw OutputError("cannot write " + path_ + ": " + std::strerror(errno));
 }
 

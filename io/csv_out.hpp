@@ -15,6 +15,13 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The reader of a pipe went away (`headingd replay ... | head -1`): not a fault of ours, and
+// nothing more to write; the run ends quietly.
+class OutputClosed : public OutputError {
+ public:
+  using OutputError::OutputError;
+};
+
 class CsvOut {
  public:
   explicit CsvOut(std::string path);

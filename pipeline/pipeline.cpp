@@ -22,6 +22,8 @@ const char* ending_name(Ending ending) {
       return "sensor failed";
     case Ending::OutputFailed:
       return "output failed";
+    case Ending::OutputClosed:
+      return "output closed by its reader";
   }
   return "?";
 }
@@ -97,6 +99,9 @@ Outcome Pipeline::run() {
         break;
       }
     }
+  } catch (const app::OutputClosed&) {
+    outcome.ending = Ending::OutputClosed;
+    outcome.samples += done;
   } catch (const std::exception& error) {  // a sink could not write (OutputError) or failed otherwise
     outcome.samples += done;               // those the sinks had taken before the failure
     outcome.ending = Ending::OutputFailed;
@@ -111,6 +116,10 @@ void Pipeline::finish(Outcome& outcome) {
   for (auto sink = sinks_.rbegin(); sink != sinks_.rend(); ++sink) {
     try {
       (*sink)->finish(*estimator_, source_);
+    } catch (const app::OutputClosed&) {
+      const bool failed = outcome.ending == Ending::BadInput || outcome.ending == Ending::SourceFailed ||
+                          outcome.ending == Ending::OutputFailed;
+      if (!failed) outcome.ending = Ending::OutputClosed;
     } catch (const std::exception& error) {
       if (outcome.ending != Ending::OutputFailed) {
         outcome.ending = Ending::OutputFailed;

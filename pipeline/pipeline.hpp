@@ -30,6 +30,7 @@ enum class Ending {
   BadInput,      // the recording has a bad line: estimates up to it are kept
   SourceFailed,  // the sensor is gone for good
   OutputFailed,  // an output could not be written
+  OutputClosed,  // the reader of our standard output went away: a quiet end
 };
 
 struct Outcome {

@@ -21,6 +21,12 @@ void install_stop_signals() {
   reload.sa_handler = on_reload_signal;
   sigemptyset(&reload.sa_mask);
   sigaction(SIGHUP, &reload, nullptr);
+  // A closed pipe is an error from write() (EPIPE), not a death: the shutdown still runs, so
+  // the state is saved and the DDS participant deleted (`replay ... | head -1`).
+  struct sigaction ignore {};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  sigaction(SIGPIPE, &ignore, nullptr);
 }
 
 bool take_reload_request() { return g_reload.exchange(false); }
