@@ -1,5 +1,8 @@
 #include "pipeline/dds_sink.hpp"
 
+#include <algorithm>
+#include <utility>
+
 #include "dds/dds_participant.hpp"
 
 namespace headingd::pipeline {
@@ -8,8 +11,8 @@ namespace {
 constexpr double kDegradedAfterRecoveryS = 5.0;
 }  // namespace
 
-DdsSink::DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock)
-    : node_(node), source_(source), clock_(clock) {}
+DdsSink::DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock, WallStamps::WallClock wall)
+    : node_(node), source_(source), clock_(clock), stamps_(wall), wall_(std::move(wall)) {}
 
 app::StatusReport DdsSink::report(const core::Estimate& estimate) {
   const core::SourceHealth health = source_.health();
@@ -38,10 +41,11 @@ app::StatusReport DdsSink::report(const core::Estimate& estimate) {
 
 void DdsSink::add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) {
   if (samples_++ == 0) first_t_s_ = sample.t_s;
-  if (!anchored_ || clock_ == StampClock::EachSample) {
-    anchored_ = true;
-    wall_offset_s_ = app::wall_now_s() - sample.t_s;
-  }
+  // Stamps never go backwards, whatever the system clock does meanwhile.
+  const double stamp_s =
+      clock_ == StampClock::FirstSample ? stamps_.stamp(sample.t_s) : std::max(wall_(), last_stamp_s_);
+  last_stamp_s_ = stamp_s;
+  wall_offset_s_ = stamp_s - sample.t_s;
   if (!node_.due(estimate)) return;
   node_.publish(estimate, estimator.diagnostics(), report(estimate), wall_offset_s_);
 }

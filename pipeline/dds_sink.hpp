@@ -5,19 +5,22 @@
 #include <chrono>
 
 #include "dds/dds_node.hpp"
+#include "dds/dds_participant.hpp"
 #include "pipeline/sink.hpp"
+#include "pipeline/wall_stamps.hpp"
 
 namespace headingd::pipeline {
 
 // How the estimate's clock becomes wall-clock time for the stamps.
 enum class StampClock {
-  FirstSample,  // the offset taken at the first sample (a sensor, or a paced recording)
+  FirstSample,  // the sample's time mapped to the wall clock (WallStamps): a sensor, or a paced recording
   EachSample,   // now, at every sample (a recording read as fast as possible)
 };
 
 class DdsSink final : public Sink, public CommandInbox {
  public:
-  DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock);
+  DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock,
+          WallStamps::WallClock wall = app::wall_now_s);
   void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) override;
   void take(std::vector<app::ValidCommand>& out) override { node_.take_commands(out); }
 
@@ -27,8 +30,10 @@ class DdsSink final : public Sink, public CommandInbox {
   app::DdsNode& node_;
   const core::SampleSource& source_;
   StampClock clock_;
-  bool anchored_ = false;
+  WallStamps stamps_;
+  WallStamps::WallClock wall_;
   double wall_offset_s_ = 0.0;
+  double last_stamp_s_ = 0.0;
   std::uint64_t recoveries_seen_ = 0;
   double degraded_until_s_ = -1.0;  // sample time until which a recent fault shows as DEGRADED
   std::uint64_t samples_ = 0;
