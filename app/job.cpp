@@ -39,6 +39,8 @@ int exit_code(pipeline::Ending ending) {
       return kExitIoError;
     case pipeline::Ending::OutputFailed:
       return kExitCantCreate;
+    case pipeline::Ending::Refused:
+      return kExitTempFail;
   }
   return kExitSoftware;
 }
@@ -143,7 +145,7 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
   if (node) {
     const auto clock = source.health().live || options.speed_factor > 0 ? pipeline::StampClock::FirstSample
                                                                         : pipeline::StampClock::EachSample;
-    pipeline.add_sink(dds.emplace(*node, source, clock));
+    pipeline.add_sink(dds.emplace(*node, source, clock, options.dds.on_duplicate));
     pipeline.set_inbox(&*dds);
   }
   std::optional<pipeline::StateSink> state;
@@ -156,7 +158,9 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
   const pipeline::Outcome outcome = pipeline.run();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
-  if (!outcome.error.empty()) std::fprintf(stderr, "headingd: %s\n", outcome.error.c_str());
+  // (A refusal was logged where it was decided.)
+  if (!outcome.error.empty() && outcome.ending != pipeline::Ending::Refused)
+    std::fprintf(stderr, "headingd: %s\n", outcome.error.c_str());
   if (outcome.ending == pipeline::Ending::BadInput)
     std::fprintf(stderr, "headingd: stopped there; estimates up to the previous sample are kept\n");
   if (node) {

@@ -13,6 +13,10 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <limits>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -39,7 +43,79 @@ void set_stamp(Stamp& stamp, double t_s) {
 
 }  // namespace
 
+namespace {
+
+// Our start time in the participant's user data, so two instances agree on which came first.
+std::string start_mark(double started_unix_s) {
+  char text[64];
+  std::snprintf(text, sizeof text, "headingd started_ns=%.0f", started_unix_s * 1e9);
+  return text;
+}
+
+std::optional<double> started_of(const std::vector<eprosima::fastrtps::rtps::octet>& user_data) {
+  const std::string text(user_data.begin(), user_data.end());
+  const std::string key = "headingd started_ns=";
+  if (text.rfind(key, 0) != 0) return std::nullopt;
+  char* end = nullptr;
+  const double ns = std::strtod(text.c_str() + key.size(), &end);
+  if (end == text.c_str() + key.size()) return std::nullopt;
+  return ns / 1e9;
+}
+
+std::string prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
+  std::ostringstream out;
+  out << prefix;
+  return out.str();
+}
+
+}  // namespace
+
+// Watches discovery for another writer on our orientation topic.
+struct Discovery : public DomainParticipantListener {
+  std::string orientation_topic;
+  double started_unix_s = 0.0;
+  std::mutex mutex;
+  struct Peer {
+    std::string name;
+    std::optional<double> started_unix_s;
+  };
+  std::map<std::string, Peer> peers;  // by GUID prefix
+  std::set<std::string> rivals_known;
+  std::vector<Rival> rivals_new;
+
+  void on_participant_discovery(DomainParticipant* /*participant*/,
+                                eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+    if (info.status != eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT) return;
+    std::lock_guard lock(mutex);
+    peers[prefix_text(info.info.m_guid.guidPrefix)] = {info.info.m_participantName.to_string(),
+                                                       started_of(info.info.m_userData.data_vec())};
+  }
+
+  void on_publisher_discovery(DomainParticipant* participant,
+                              eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
+    if (info.status != eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER) return;
+    if (info.info.topicName().to_string() != orientation_topic) return;
+    const auto& prefix = info.info.guid().guidPrefix;
+    if (prefix == participant->guid().guidPrefix) return;  // our own writer
+    std::lock_guard lock(mutex);
+    const std::string key = prefix_text(prefix);
+    if (!rivals_known.insert(key).second) return;
+    Rival rival{key, "?", false};
+    if (const auto peer = peers.find(key); peer != peers.end()) {
+      rival.participant = peer->second.name;
+      // The one that came later gives way; a publisher that does not say counts as earlier.
+      rival.started_before_us =
+          !peer->second.started_unix_s || *peer->second.started_unix_s < started_unix_s ||
+          (*peer->second.started_unix_s == started_unix_s && key < prefix_text(participant->guid().guidPrefix));
+    } else {
+      rival.started_before_us = true;
+    }
+    rivals_new.push_back(rival);
+  }
+};
+
 struct DdsNode::Impl : public DataReaderListener {
+  Discovery discovery;
   DomainParticipant* participant = nullptr;
   Publisher* publisher = nullptr;
   Subscriber* subscriber = nullptr;
@@ -100,7 +176,9 @@ DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()),
                    removed);
   }
   try {
-    d.participant = create_participant(settings, "headingd");
+    d.discovery.orientation_topic = topic_name(settings, "orientation");
+    d.discovery.started_unix_s = wall_now_s();
+    d.participant = create_participant(settings, "headingd", &d.discovery, start_mark(d.discovery.started_unix_s));
     d.publisher = d.participant->create_publisher(PUBLISHER_QOS_DEFAULT);
     d.subscriber = d.participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
     if (d.publisher == nullptr || d.subscriber == nullptr)
@@ -175,6 +253,13 @@ void DdsNode::take_commands(std::vector<ValidCommand>& out) {
   std::lock_guard lock(impl_->mutex);
   out.insert(out.end(), impl_->commands.begin(), impl_->commands.end());
   impl_->commands.clear();
+}
+
+std::vector<Rival> DdsNode::take_rivals() {
+  std::lock_guard lock(impl_->discovery.mutex);
+  std::vector<Rival> out;
+  out.swap(impl_->discovery.rivals_new);
+  return out;
 }
 
 std::uint64_t DdsNode::commands_accepted() const {
@@ -282,6 +367,7 @@ void DdsNode::publish(const core::Estimate& e, const core::Diagnostics& diagnost
     s.commands_rejected(commands_rejected());
     s.uptime_s(report.uptime_s);
     s.version(kVersion);
+    s.other_publishers(report.other_publishers);
     d.status->write(&s);
   }
 }

@@ -25,11 +25,19 @@ struct StatusReport {
   double sample_rate_hz = 0.0;
   std::uint64_t samples_received = 0, samples_dropped = 0, bus_errors = 0, fifo_overruns = 0;
   double uptime_s = 0.0;
+  std::uint32_t other_publishers = 0;
 };
 
 // The most Orientation (and Imu) messages one wake-up of the sensor can make due at once, with
 // margin: the best-effort writer keeps this many, and so should a reader that wants them all.
 inline constexpr int kOrientationBurst = 8;
+
+// Another participant publishing our orientation topic.
+struct Rival {
+  std::string guid_prefix;         // of its participant, as Fast DDS prints it
+  std::string participant;         // its participant name ("headingd" for another instance)
+  bool started_before_us = false;  // by the start times in the participants' user data
+};
 
 class DdsNode {
  public:
@@ -51,6 +59,8 @@ class DdsNode {
   std::uint64_t commands_accepted() const;
   std::uint64_t commands_rejected() const;
   std::uint64_t orientation_sent() const { return orientation_seq_; }
+  // Other publishers of our orientation topic discovered since the last call.
+  std::vector<Rival> take_rivals();
   // Waits up to `seconds` for a subscriber to match the orientation writer; true if one did.
   bool wait_for_subscribers(double seconds);
 

@@ -11,6 +11,7 @@
 #include <fastdds/dds/log/Log.hpp>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "dds/server_address.hpp"
 
@@ -45,7 +46,8 @@ void apply_transport(const DdsSettings& settings, DataReaderQos& qos) {
   if (settings.transport != DdsTransport::SharedMemory) qos.data_sharing().off();
 }
 
-DomainParticipant* create_participant(const DdsSettings& settings, const std::string& name) {
+DomainParticipant* create_participant(const DdsSettings& settings, const std::string& name,
+                                      DomainParticipantListener* listener, const std::string& user_data) {
   // HEADINGD_DDS_LOG=warning|info shows Fast DDS's own diagnostics (security set-up, discovery).
   if (const char* level = std::getenv("HEADINGD_DDS_LOG")) {
     const std::string text = level;
@@ -62,6 +64,8 @@ DomainParticipant* create_participant(const DdsSettings& settings, const std::st
       factory->get_participant_qos_from_profile("headingd", from_profile) == ReturnCode_t::RETCODE_OK)
     qos = from_profile;
   qos.name(name);
+  if (!user_data.empty())
+    qos.user_data().setValue(std::vector<eprosima::fastrtps::rtps::octet>(user_data.begin(), user_data.end()));
   if (!from_profile_in_force(settings, factory) && settings.transport == DdsTransport::Udp) {
     // UDP alone, on every interface (loopback included): see DdsTransport for why not SHM.
     qos.transport().use_builtin_transports = false;
@@ -100,7 +104,9 @@ DomainParticipant* create_participant(const DdsSettings& settings, const std::st
     set("dds.sec.access.builtin.Access-Permissions.permissions", "file://" + s.permissions);
     set("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
   }
-  auto* participant = factory->create_participant(static_cast<DomainId_t>(settings.domain_id), qos);
+  // Only the discovery callbacks: our readers have listeners of their own.
+  auto* participant =
+      factory->create_participant(static_cast<DomainId_t>(settings.domain_id), qos, listener, StatusMask::none());
   if (participant == nullptr) {
     throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(settings.domain_id) +
                              (settings.security.enabled ? " (DDS Security: check the certificates, key, governance and "

@@ -28,6 +28,10 @@ struct DdsSecurity {
 //    can take them; others fall back to nothing at all. Opt in only for that case.
 enum class DdsTransport { Udp, SharedMemory };
 
+// What to do on finding another publisher of our topics on the domain (a second headingd with
+// the same prefix, a replay): subscribers would get both streams interleaved.
+enum class DuplicatePolicy { Warn, Refuse };
+
 struct DdsSettings {
   int domain_id = 0;                // [0, 232]
   std::string prefix = "headingd";  // topics PREFIX/orientation, /bias, /status, /command
@@ -35,10 +39,12 @@ struct DdsSettings {
   bool publish_imu = true;          // sensor_msgs/msg/Imu on rt/IMU_TOPIC
   std::string imu_topic = "imu";
   std::string frame_id = "imu_link";
-  double orientation_rate_hz = 50.0;           // Orientation and Imu messages per second (0, 1000]
-  bool orientation_reliable = false;           // false: best-effort (latest wins); true: reliable
-  std::optional<std::string> profiles_xml;     // Fast DDS XML profiles (override our QoS)
-  DdsTransport transport = DdsTransport::Udp;  // unless a "headingd" participant profile says otherwise
+  double orientation_rate_hz = 50.0;        // Orientation and Imu messages per second (0, 1000]
+  bool orientation_reliable = false;        // false: best-effort (latest wins); true: reliable
+  std::optional<std::string> profiles_xml;  // Fast DDS XML profiles (override our QoS)
+  DdsTransport transport = DdsTransport::Udp;
+  // Refuse: the instance that started later exits 75 (EX_TEMPFAIL); both log the conflict.
+  DuplicatePolicy on_duplicate = DuplicatePolicy::Warn;  // unless a "headingd" participant profile says otherwise
   // Fast DDS Discovery Servers as IPV4:PORT, the position in the list being the server id
   // (`fastdds discovery -i ID`), as in ROS_DISCOVERY_SERVER; "" skips an id. Empty: multicast.
   std::vector<std::string> discovery_servers;

@@ -92,6 +92,7 @@ std::string line_for(const headingd::msg::Status& m, bool json) {
       .count("commands_accepted", m.commands_accepted())
       .count("commands_rejected", m.commands_rejected())
       .fixed("uptime_s", m.uptime_s(), 3)
+      .count("other_publishers", m.other_publishers())
       .text("version", m.version().c_str())
       .str();
 }

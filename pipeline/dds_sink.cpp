@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "dds/dds_participant.hpp"
+#include "service/log.hpp"
 
 namespace headingd::pipeline {
 namespace {
@@ -11,8 +12,24 @@ namespace {
 constexpr double kDegradedAfterRecoveryS = 5.0;
 }  // namespace
 
-DdsSink::DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock, WallStamps::WallClock wall)
-    : node_(node), source_(source), clock_(clock), stamps_(wall), wall_(std::move(wall)) {}
+DdsSink::DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock,
+                 app::DuplicatePolicy on_duplicate, WallStamps::WallClock wall)
+    : node_(node), source_(source), clock_(clock), on_duplicate_(on_duplicate), stamps_(wall), wall_(std::move(wall)) {}
+
+void DdsSink::batch_done(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) {
+  for (const app::Rival& rival : node_.take_rivals()) {
+    ++rivals_;
+    const bool refuse = on_duplicate_ == app::DuplicatePolicy::Refuse && rival.started_before_us;
+    const std::string text = "another publisher of our topics on this domain and prefix: participant '" +
+                             rival.participant + "', GUID prefix " + rival.guid_prefix + ", started " +
+                             (rival.started_before_us ? "before" : "after") +
+                             " this one; subscribers get both streams interleaved (give each instance its own "
+                             "[dds] prefix or domain_id)" +
+                             (refuse ? "; on_duplicate = refuse: this one stops" : "");
+    app::log(app::LogPriority::Error, "duplicate " + rival.guid_prefix, text);
+    if (refuse) throw RunRefused(text);
+  }
+}
 
 app::StatusReport DdsSink::report(const core::Estimate& estimate) {
   const core::SourceHealth health = source_.health();
@@ -36,6 +53,7 @@ app::StatusReport DdsSink::report(const core::Estimate& estimate) {
   r.bus_errors = health.bus_errors;
   r.fifo_overruns = health.overruns;
   r.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  r.other_publishers = rivals_;
   return r;
 }
 

@@ -20,9 +20,12 @@ enum class StampClock {
 class DdsSink final : public Sink, public CommandInbox {
  public:
   DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock,
-          WallStamps::WallClock wall = app::wall_now_s);
+          app::DuplicatePolicy on_duplicate = app::DuplicatePolicy::Warn, WallStamps::WallClock wall = app::wall_now_s);
   void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) override;
   void take(std::vector<app::ValidCommand>& out) override { node_.take_commands(out); }
+  // Another publisher of our topics: logged, counted on Status, and under the refuse policy
+  // the run ends (RunRefused) if the other one came first.
+  void batch_done(const core::Estimator& estimator, const core::SampleSource& source) override;
 
  private:
   app::StatusReport report(const core::Estimate& estimate);
@@ -30,6 +33,7 @@ class DdsSink final : public Sink, public CommandInbox {
   app::DdsNode& node_;
   const core::SampleSource& source_;
   StampClock clock_;
+  app::DuplicatePolicy on_duplicate_;
   WallStamps stamps_;
   WallStamps::WallClock wall_;
   double wall_offset_s_ = 0.0;
@@ -37,6 +41,7 @@ class DdsSink final : public Sink, public CommandInbox {
   std::uint64_t recoveries_seen_ = 0;
   double degraded_until_s_ = -1.0;  // sample time until which a recent fault shows as DEGRADED
   std::uint64_t samples_ = 0;
+  std::uint32_t rivals_ = 0;
   double first_t_s_ = 0.0;
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };

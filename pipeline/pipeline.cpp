@@ -24,6 +24,8 @@ const char* ending_name(Ending ending) {
       return "output failed";
     case Ending::OutputClosed:
       return "output closed by its reader";
+    case Ending::Refused:
+      return "refused to run";
   }
   return "?";
 }
@@ -102,6 +104,10 @@ Outcome Pipeline::run() {
   } catch (const app::OutputClosed&) {
     outcome.ending = Ending::OutputClosed;
     outcome.samples += done;
+  } catch (const RunRefused& refusal) {
+    outcome.ending = Ending::Refused;
+    outcome.error = refusal.what();
+    outcome.samples += done;
   } catch (const std::exception& error) {  // a sink could not write (OutputError) or failed otherwise
     outcome.samples += done;               // those the sinks had taken before the failure
     outcome.ending = Ending::OutputFailed;
@@ -118,7 +124,7 @@ void Pipeline::finish(Outcome& outcome) {
       (*sink)->finish(*estimator_, source_);
     } catch (const app::OutputClosed&) {
       const bool failed = outcome.ending == Ending::BadInput || outcome.ending == Ending::SourceFailed ||
-                          outcome.ending == Ending::OutputFailed;
+                          outcome.ending == Ending::OutputFailed || outcome.ending == Ending::Refused;
       if (!failed) outcome.ending = Ending::OutputClosed;
     } catch (const std::exception& error) {
       if (outcome.ending != Ending::OutputFailed) {

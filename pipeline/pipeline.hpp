@@ -31,6 +31,7 @@ enum class Ending {
   SourceFailed,  // the sensor is gone for good
   OutputFailed,  // an output could not be written
   OutputClosed,  // the reader of our standard output went away: a quiet end
+  Refused,       // a sink ended the run on purpose (another instance came first)
 };
 
 struct Outcome {

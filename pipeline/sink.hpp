@@ -3,6 +3,7 @@
 // source delivered (for work at a slower pace: saving, status), then once at the end,
 // whatever ended the run. Sinks are finished in the reverse of the order they were added, so
 // the last one set up is the first one taken down (as chrony's main.c undoes its start-up).
+#include <stdexcept>
 #include <vector>
 
 #include "core/estimate.hpp"
@@ -12,6 +13,13 @@
 #include "dds/command_validator.hpp"
 
 namespace headingd::pipeline {
+
+// Thrown by a sink that must end the run for a reason of its own rather than a failure to
+// write (another instance publishing our topics, under the refuse policy).
+class RunRefused : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 class Sink {
  public:

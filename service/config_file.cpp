@@ -279,7 +279,15 @@ void read_dds(const TableReader& r, DdsSettings& d) {
           d.orientation_reliable = r.boolean(node, key);
         else if (name == "profiles_xml")
           d.profiles_xml = text_of(r.file(), node, key);
-        else if (name == "transport") {
+        else if (name == "on_duplicate") {
+          const std::string value = text_of(r.file(), node, key);
+          if (value == "warn")
+            d.on_duplicate = DuplicatePolicy::Warn;
+          else if (value == "refuse")
+            d.on_duplicate = DuplicatePolicy::Refuse;
+          else
+            fail(r.file(), node, key, "is " + shown(node) + ", allowed \"warn\" or \"refuse\"");
+        } else if (name == "transport") {
           const std::string value = text_of(r.file(), node, key);
           if (value == "udp")
             d.transport = DdsTransport::Udp;
@@ -296,7 +304,7 @@ void read_dds(const TableReader& r, DdsSettings& d) {
         return true;
       },
       "domain_id, prefix, ros2_naming, publish_imu, imu_topic, frame_id, orientation_rate_hz, orientation_reliable, "
-      "transport, "
+      "transport, on_duplicate, "
       "profiles_xml, discovery_server, command_max_age_s, [dds.security]");
 }
 

@@ -9,6 +9,7 @@ inline constexpr int kExitNoInput = 66;     // input missing or unreadable
 inline constexpr int kExitSoftware = 70;    // internal error
 inline constexpr int kExitCantCreate = 73;  // output cannot be written
 inline constexpr int kExitIoError = 74;     // the sensor failed for good
+inline constexpr int kExitTempFail = 75;    // another instance runs: try again when it is gone
 inline constexpr int kExitConfig = 78;      // configuration invalid
 
 }  // namespace headingd::app
