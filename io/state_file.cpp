@@ -1,6 +1,7 @@
 #include "io/state_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -142,7 +143,18 @@ void save_state(const std::string& path, const SavedState& state, int crash_afte
   const auto step = [&](int k) {
     if (k == crash_after) throw SimulatedCrash{k};
   };
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // The directory decides who may plant files where we write: not everyone.
+  const std::string dir =
+      std::filesystem::path(path).parent_path().empty() ? "." : std::filesystem::path(path).parent_path().string();
+  struct stat dir_info {};
+  check(::stat(dir.c_str(), &dir_info) == 0, path, "stat directory");
+  if ((dir_info.st_mode & S_IWOTH) != 0)
+    throw StateError("state file " + path + ": its directory " + dir + " is writable by others; refusing to write");
+  // Created afresh, never through whatever is there: a leftover of a crash or a planted link
+  // is removed (unlink takes the link itself, never its target) and the create is exclusive.
+  int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0 && errno == EEXIST && ::unlink(temp.c_str()) == 0)
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
   check(fd >= 0, path, "create temporary file");
   step(0);
   const std::size_t half = text.size() / 2;
@@ -166,8 +178,6 @@ void save_state(const std::string& path, const SavedState& state, int crash_afte
   check(::rename(temp.c_str(), path.c_str()) == 0, path, "rename");
   step(5);
   // The rename is durable only once the directory itself is on disk.
-  const std::string dir =
-      std::filesystem::path(path).parent_path().empty() ? "." : std::filesystem::path(path).parent_path().string();
   const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   check(dfd >= 0, path, "open directory");
   ok = ::fsync(dfd) == 0;

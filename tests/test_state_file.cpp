@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "io/state_file.hpp"
@@ -103,4 +105,36 @@ TEST(StateFile, UnknownTemperatureRoundTrips) {
   s.temp_c = std::numeric_limits<double>::quiet_NaN();
   save_state(path, s);
   EXPECT_TRUE(std::isnan(load_state(path).temp_c));
+}
+
+namespace {
+std::string contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+}  // namespace
+
+// Issue 15, item 2: a link planted at the temporary or at the state itself is never written
+// through; the state ends up a regular file in its directory and the victim is untouched.
+TEST(StateFile, PlantedLinksAreNeverWrittenThrough) {
+  TempDir dir;
+  TempDir elsewhere;
+  const std::string victim = elsewhere.file("victim", "precious");
+  for (const std::string planted : {"state.tmp", "state"}) {
+    const std::string path = dir.path("state");
+    std::filesystem::remove(dir.path("state"));
+    std::filesystem::remove(dir.path("state.tmp"));
+    std::filesystem::create_symlink(victim, dir.path(planted));
+    save_state(path, sample_state(0.25));
+    EXPECT_EQ(contents(victim), "precious") << "written through a link at " << planted;
+    EXPECT_TRUE(std::filesystem::is_regular_file(std::filesystem::symlink_status(path))) << planted;
+    EXPECT_DOUBLE_EQ(load_state(path).bias_dps.z(), 0.25);
+  }
+}
+
+TEST(StateFile, ADirectoryWritableByOthersIsRefused) {
+  TempDir dir;
+  std::filesystem::permissions(dir.path(""), std::filesystem::perms::others_write, std::filesystem::perm_options::add);
+  EXPECT_THROW(save_state(dir.path("state"), sample_state(0.1)), StateError);
+  EXPECT_FALSE(std::filesystem::exists(dir.path("state.tmp")));
 }

@@ -1,0 +1,13 @@
+#pragma once
+// Writing a whole file we own the way every output should be written: a temporary created
+// exclusively next to the target (never through a link planted there), filled, synced, then
+// renamed over the target (a link at the target is replaced, never followed).
+#include <string>
+#include <string_view>
+
+namespace headingd::app {
+
+// Throws OutputError naming the file and what failed.
+void write_file_atomically(const std::string& path, std::string_view bytes);
+
+}  // namespace headingd::app
