@@ -10,12 +10,9 @@
 
 namespace headingd::pipeline {
 
-class ServiceSink final : public Sink {
+class ServiceSink final : public BatchSink {
  public:
   explicit ServiceSink(app::Notifier& notifier) : notifier_(notifier) {}
-  void add(const core::Sample& /*sample*/, const core::Estimate& /*estimate*/,
-           const core::Estimator& /*estimator*/) override {}
-  bool wants_samples() const override { return false; }
   void batch_done(const core::Estimator& estimator, const core::SampleSource& source) override;
   void finish(const core::Estimator& estimator, const core::SampleSource& source) override;
 

@@ -35,6 +35,14 @@ class Sink {
   virtual void finish(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) {}
 };
 
+// A sink that acts only per batch and at the end (saving, status): the hot loop skips it.
+class BatchSink : public Sink {
+ public:
+  void add(const core::Sample& /*sample*/, const core::Estimate& /*estimate*/,
+           const core::Estimator& /*estimator*/) final {}
+  bool wants_samples() const final { return false; }
+};
+
 // Commands from outside (HeadingCommand over DDS), as plain validated values.
 class CommandInbox {
  public:

@@ -11,12 +11,9 @@
 
 namespace headingd::pipeline {
 
-class StateSink final : public Sink {
+class StateSink final : public BatchSink {
  public:
   StateSink(std::string path, double interval_s);
-  void add(const core::Sample& /*sample*/, const core::Estimate& /*estimate*/,
-           const core::Estimator& /*estimator*/) override {}
-  bool wants_samples() const override { return false; }
   void batch_done(const core::Estimator& estimator, const core::SampleSource& source) override;
   void finish(const core::Estimator& estimator, const core::SampleSource& source) override;
 
