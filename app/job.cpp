@@ -116,7 +116,8 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
       std::fprintf(stderr, "headingd: DDS: %s\n", error.what());
       return kExitSoftware;
     }
-    if (options.wait_subscribers_s > 0 && !node->wait_for_subscribers(options.wait_subscribers_s)) {
+    if (options.wait_subscribers_s > 0 && !node->wait_for_subscribers(options.wait_subscribers_s, &stop_flag()) &&
+        !stop_requested()) {
       std::fprintf(stderr, "headingd: no orientation subscriber within %.1f s; publishing anyway\n",
                    options.wait_subscribers_s);
     }

@@ -233,7 +233,7 @@ DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()),
 
 DdsNode::~DdsNode() { delete_participant(impl_->participant); }
 
-bool DdsNode::wait_for_subscribers(double seconds) {
+bool DdsNode::wait_for_subscribers(double seconds, const std::atomic<bool>* stop) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   PublicationMatchedStatus matched;
   while (true) {
@@ -244,7 +244,7 @@ bool DdsNode::wait_for_subscribers(double seconds) {
       std::this_thread::sleep_for(std::chrono::milliseconds(300));
       return true;
     }
-    if (std::chrono::steady_clock::now() >= deadline) return false;
+    if (std::chrono::steady_clock::now() >= deadline || (stop != nullptr && stop->load())) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
 }

@@ -5,6 +5,7 @@
 // reliable by config); a reader for HeadingCommand whose messages are validated before use.
 // XML profiles named headingd_<topic> override the writers' QoS. Destroying the node deletes
 // every entity and the participant, so no shared-memory files are left behind.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -62,7 +63,8 @@ class DdsNode {
   // Other publishers of our orientation topic discovered since the last call.
   std::vector<Rival> take_rivals();
   // Waits up to `seconds` for a subscriber to match the orientation writer; true if one did.
-  bool wait_for_subscribers(double seconds);
+  // A raised `stop` ends the wait at once (SIGTERM during discovery).
+  bool wait_for_subscribers(double seconds, const std::atomic<bool>* stop = nullptr);
 
   struct Impl;
 

@@ -34,7 +34,9 @@ run_case() {
     "$@" 2>"'"$case_dir"'/stderr" &
     pid=$!
     if [ "'"$term_after"'" != 0 ]; then sleep "'"$term_after"'"; kill -TERM "$pid"; fi
+    sent=$(date +%s%N)
     wait "$pid"; rc=$?
+    echo $((($(date +%s%N) - sent) / 1000000)) >"'"$case_dir"'/stop_ms"
     ls -A /dev/shm >"'"$case_dir"'/shm-left"
     exit "$rc"' -- "$headingd" "$@" --state "$case_dir/state" -c "$dir/cfg.toml"
   local rc=$?
@@ -54,6 +56,13 @@ run_case() {
 
 run_case end-of-input 0 0 run --recording "$recording" --speed max --output "$dir/est.csv"
 run_case sigterm 0 5 run --simulated-chip still --sim-realtime
+# A recording paced in real time with a 3 h gap after its first 5 s: SIGTERM inside the gap.
+awk -F, '/^[0-9]/ && $1 > 5 { exit } { print }' "$recording" >"$dir/gap.csv"
+awk -F, -v OFS=, '/^[0-9]/ && $1 > 5 { $1 = sprintf("%.6f", $1 + 10800); print }' "$recording" >>"$dir/gap.csv"
+run_case realtime-gap 0 7 run --recording "$dir/gap.csv" --speed realtime
+stop_ms=$(cat "$dir/realtime-gap/stop_ms")
+[ "$stop_ms" -le 1000 ] || fail "realtime-gap: exit took $stop_ms ms after SIGTERM"
+echo "ok: SIGTERM inside a 3 h gap of a realtime replay: exit after $stop_ms ms"
 run_case output-error 73 0 run --recording "$recording" --speed max --output /dev/full --output-rate 0
 grep -q "cannot write /dev/full" "$dir/output-error/stderr" || fail "output-error: $(cat "$dir/output-error/stderr")"
 run_case sensor-death 74 0 run --simulated-chip still --sim-dead-after 20
