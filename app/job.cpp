@@ -128,7 +128,7 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
   pipeline_options.duration_s = options.duration_s;
   pipeline_options.stop = &stop_flag();
   if (options.speed_factor > 0) pipeline_options.pacer.emplace(options.speed_factor, &stop_flag());
-  pipeline::Pipeline pipeline(source, std::move(estimator), std::move(pipeline_options));
+  pipeline::Pipeline pipeline(source, std::move(estimator), pipeline_options);
 
   std::optional<pipeline::RecordingSink> recording;
   std::optional<pipeline::EstimatesSink> estimates;

@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
     drivers::SimulatedSource source(*drivers::build_scenario("agv", 1, kSeconds / 3600.0), 1);
     pipeline::PipelineOptions options;
     options.pacer.emplace(1.0, nullptr);
-    pipeline::Pipeline line(source, std::make_unique<core::Estimator>(), std::move(options));
+    pipeline::Pipeline line(source, std::make_unique<core::Estimator>(), options);
     pipeline::DdsSink publisher(node, source, pipeline::StampClock::EachSample);
     line.add_sink(publisher);
     const auto start = std::chrono::steady_clock::now();

@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
       core::MemorySource source(samples);
       pipeline::PipelineOptions options;
       options.batch = 4096;
-      pipeline::Pipeline line(source, std::make_unique<core::Estimator>(), std::move(options));
+      pipeline::Pipeline line(source, std::make_unique<core::Estimator>(), options);
       line.run();
       sink += line.estimator().last().heading_deg;
     }));

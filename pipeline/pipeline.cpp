@@ -31,7 +31,7 @@ const char* ending_name(Ending ending) {
 }
 
 Pipeline::Pipeline(core::SampleSource& source, std::unique_ptr<core::Estimator> estimator, PipelineOptions options)
-    : source_(source), estimator_(std::move(estimator)), options_(std::move(options)) {
+    : source_(source), estimator_(std::move(estimator)), options_(options) {
   commands_.reserve(16);
 }
 

@@ -56,7 +56,10 @@ TEST(WallStamps, FollowsAForwardStepWithinOneSecond) {
   const StampRun run = run_with_step(+10.0);
   expect_increasing(run);
   EXPECT_LT(std::abs(error_at(run, 29.0)), 0.05) << "before the step";
-  for (double t = 31.0; t < 200.0; t += 0.25) EXPECT_LT(std::abs(error_at(run, t)), 0.05) << "at t = " << t;
+  for (int k = 0; 31.0 + 0.25 * k < 200.0; ++k) {
+    const double t = 31.0 + 0.25 * k;
+    EXPECT_LT(std::abs(error_at(run, t)), 0.05) << "at t = " << t;
+  }
   EXPECT_EQ(run.stamp.size(), static_cast<std::size_t>(200 * kRateHz)) << "every sample stamped once";
 }
 
@@ -67,12 +70,18 @@ TEST(WallStamps, ABackwardStepNeverGoesBackAndConvergesAtTheSlewRate) {
   // after 10 / rate s.
   EXPECT_NEAR(error_at(run, 80.0), 10.0 - 50.0 * kSlewDownPerS, 0.1);
   const double caught_up_t = 30.0 + 10.0 / kSlewDownPerS + 1.0;
-  for (double t = caught_up_t; t < 200.0; t += 0.25) EXPECT_LT(std::abs(error_at(run, t)), 0.05) << "at t = " << t;
+  for (int k = 0; caught_up_t + 0.25 * k < 200.0; ++k) {
+    const double t = caught_up_t + 0.25 * k;
+    EXPECT_LT(std::abs(error_at(run, t)), 0.05) << "at t = " << t;
+  }
   EXPECT_EQ(run.stamp.size(), static_cast<std::size_t>(200 * kRateHz)) << "every sample stamped once";
 }
 
 TEST(WallStamps, WithoutStepsTheStampIsTheSampleTimeOnTheWallClock) {
   const StampRun run = run_with_step(0.0);
   expect_increasing(run);
-  for (double t = 1.0; t < 200.0; t += 0.25) EXPECT_LT(std::abs(error_at(run, t)), 0.05) << "at t = " << t;
+  for (int k = 0; 1.0 + 0.25 * k < 200.0; ++k) {
+    const double t = 1.0 + 0.25 * k;
+    EXPECT_LT(std::abs(error_at(run, t)), 0.05) << "at t = " << t;
+  }
 }

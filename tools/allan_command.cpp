@@ -74,7 +74,7 @@ Recording read_recording(drivers::CsvReplaySource& source, bool still_only) {
   Recording rec;
   pipeline::PipelineOptions options;
   options.batch = 4096;
-  pipeline::Pipeline line(source, std::make_unique<core::Estimator>(), std::move(options));
+  pipeline::Pipeline line(source, std::make_unique<core::Estimator>(), options);
   Collector collector(rec, still_only);
   line.add_sink(collector);
   const pipeline::Outcome outcome = line.run();

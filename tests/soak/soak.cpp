@@ -193,7 +193,7 @@ int main(int argc, char** argv) {
 
   pipeline::PipelineOptions options;
   options.duration_s = hours * 3600.0;
-  pipeline::Pipeline line(driver, std::make_unique<core::Estimator>(), std::move(options));
+  pipeline::Pipeline line(driver, std::make_unique<core::Estimator>(), options);
   FaultsAndChecks checks(*source.simulator(), seed, hours * 3600.0);
   line.add_sink(checks);
   std::optional<pipeline::DdsSink> publisher;
