@@ -1,5 +1,6 @@
 #include "service/config_file.hpp"
 
+#include <sys/stat.h>
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -432,6 +433,19 @@ bool apply_method_option(const std::optional<std::string>& method, core::Estimat
 }
 
 Config load_config(const std::string& path) {
+  // A directory would read as an empty file (all defaults), a FIFO would block start-up and a
+  // device would never end: only a regular file of sane size is a configuration.
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) throw ConfigError("cannot open config " + path + ": " + std::strerror(errno));
+  if (!S_ISREG(info.st_mode)) {
+    const char* what = S_ISDIR(info.st_mode)                            ? "a directory"
+                       : S_ISFIFO(info.st_mode)                         ? "a FIFO"
+                       : S_ISCHR(info.st_mode) || S_ISBLK(info.st_mode) ? "a device"
+                                                                        : "not a regular file";
+    throw ConfigError("config " + path + " is " + what + ", not a configuration file");
+  }
+  constexpr off_t kMaxConfigBytes = 1 << 20;
+  if (info.st_size > kMaxConfigBytes) throw ConfigError("config " + path + " is larger than 1 MiB");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError("cannot open config " + path + ": " + std::strerror(errno));
   std::ostringstream text;

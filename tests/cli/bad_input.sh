@@ -33,6 +33,10 @@ printf '%s\n0,1,2,3\n0.1,1,2,3\n0.05,1,2,3\n' "$hdr" >"$dir/backwards.csv"
 printf '\x00\x01\xff garbage\n' >"$dir/binary.csv"
 printf '[estimator]\nk_range = "7"\n' >"$dir/bad.toml"
 
+mkfifo "$dir/fifo.toml"
+expect config-directory 78 "config $dir is a directory, not a configuration file" -- replay --no-dds -c "$dir" "$dir/malformed.csv"
+expect config-fifo 78 "config $dir/fifo.toml is a FIFO, not a configuration file" -- run --no-dds --simulated-chip still --duration 1 -c "$dir/fifo.toml"
+expect config-device 78 "config /dev/zero is a device, not a configuration file" -- run --no-dds --simulated-chip still --duration 1 -c /dev/zero
 expect malformed-line 65 "$dir/malformed.csv:3: expected 4 fields, found 3" -- replay --no-dds "$dir/malformed.csv" -o "$dir/o.csv"
 expect non-numeric 65 "$dir/nonnumeric.csv:3: field 'gy_dps' (column 3): 'x2' is not a finite number" -- replay --no-dds "$dir/nonnumeric.csv" -o "$dir/o.csv"
 expect missing-column 65 "$dir/missing.csv:1: missing column 'gy_dps'" -- replay --no-dds "$dir/missing.csv" -o "$dir/o.csv"
