@@ -64,9 +64,7 @@ std::unique_ptr<core::Estimator> reload(const JobOptions& options, const core::E
   const double heading_deg = running.last().heading_deg;
   const double sigma_deg = running.last().heading_sigma_deg;
   auto next = std::make_unique<core::Estimator>(settings);
-  core::LearnedState kept = running.learned();
-  if (!kept.bias_sigma_dps.allFinite()) kept.bias_sigma_dps = core::Vec3::Constant(0.01);
-  next->restore(kept);
+  next->restore(running.learned());
   next->set_heading(heading_deg, std::isfinite(sigma_deg) ? sigma_deg * sigma_deg : 0.0);
   LogPriority level;
   if (parse_log_level(config.log_level, level)) set_log_level(level);

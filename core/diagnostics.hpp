@@ -38,7 +38,7 @@ struct Diagnostics {
 // What survives a restart (the state file): the bias and what was learned about the sensor.
 struct LearnedState {
   Vec3 bias_dps = Vec3::Zero();
-  Vec3 bias_sigma_dps = Vec3::Zero();
+  Vec3 bias_sigma_dps = Vec3::Zero();   // 0.01 dps where the method has none
   Vec3 sigma_still_dps = Vec3::Zero();  // zero when unknown
   Vec3 arw_dps_rt_hz = Vec3::Zero();    // zero when unknown
   std::array<TemperatureModel::Sums, 3> temperature_sums{};

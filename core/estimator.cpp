@@ -5,6 +5,8 @@
 namespace headingd::core {
 namespace {
 
+constexpr double kUnknownSigmaRestoredDps = 0.01;
+
 std::variant<PaperEstimator, AutoEstimator> make(const EstimatorSettings& s) {
   if (s.method == Method::Auto) return AutoEstimator(s.segments, s.automatic);
   return PaperEstimator(s.method, s.segments);
@@ -88,7 +90,10 @@ Diagnostics Estimator::diagnostics() const {
 LearnedState Estimator::learned() const {
   LearnedState state;
   state.bias_dps = last().bias_dps;
-  state.bias_sigma_dps = last().bias_sigma_dps;
+  // A bias without a sigma (the paper's methods, or during start-up) would be restored as
+  // exact: give it a modest one.
+  state.bias_sigma_dps =
+      last().bias_sigma_dps.allFinite() ? last().bias_sigma_dps : Vec3::Constant(kUnknownSigmaRestoredDps);
   if (const auto* a = std::get_if<AutoEstimator>(&impl_)) {
     state.sigma_still_dps = a->sigma_still_dps();
     state.arw_dps_rt_hz = a->noise_density_dps_rt_hz();

@@ -12,8 +12,6 @@ namespace {
 app::SavedState to_saved(const core::LearnedState& learned) {
   app::SavedState state;
   static_cast<core::LearnedState&>(state) = learned;
-  // A bias restored with no sigma would be trusted as exact: give it a modest one.
-  if (!state.bias_sigma_dps.allFinite()) state.bias_sigma_dps = core::Vec3::Constant(0.01);
   state.temp_c = std::numeric_limits<double>::quiet_NaN();
   state.saved_unix_s = app::wall_now_s();
   return state;
