@@ -61,11 +61,8 @@ std::unique_ptr<core::Estimator> reload(const JobOptions& options, const core::E
   }
   core::EstimatorSettings settings = config.estimator;
   if (options.method) settings.method = running.method();  // the command line still wins
-  const double heading_deg = running.last().heading_deg;
-  const double sigma_deg = running.last().heading_sigma_deg;
   auto next = std::make_unique<core::Estimator>(settings);
-  next->restore(running.learned());
-  next->set_heading(heading_deg, std::isfinite(sigma_deg) ? sigma_deg * sigma_deg : 0.0);
+  next->restore(running.learned());  // bias, models, heading with its sigma and fix offset
   LogPriority level;
   if (parse_log_level(config.log_level, level)) set_log_level(level);
   log(LogPriority::Notice, "reload",
@@ -104,12 +101,14 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
   install_stop_signals();
   Notifier notifier;
   auto estimator = std::make_unique<core::Estimator>(options.settings);
-  if (options.state_path) pipeline::restore_state(*estimator, *options.state_path);
+  if (options.state_path) pipeline::restore_state(*estimator, *options.state_path, options.state_restore_heading);
 
   std::unique_ptr<DdsNode> node;
   if (options.publish) {
     try {
-      node = std::make_unique<DdsNode>(options.dds);
+      DdsSettings dds = options.dds;
+      if (dds.ros.hardware_id == RosSettings{}.hardware_id) dds.ros.hardware_id = source.describe();
+      node = std::make_unique<DdsNode>(dds);
     } catch (const std::exception& error) {
       std::fprintf(stderr, "headingd: DDS: %s\n", error.what());
       return kExitSoftware;

@@ -20,6 +20,7 @@ struct JobOptions {
   std::string record_comments;             // its '#' provenance lines
   std::optional<std::string> state_path;
   double state_save_interval_s = 60.0;
+  bool state_restore_heading = true;
   bool publish = false;  // DDS
   DdsSettings dds;
   double speed_factor = 0.0;  // recordings: 0 as fast as possible, else a factor of real time

@@ -31,6 +31,10 @@ LiveSource::LiveSource(const SensorOptions& options) : options_(options) {
     simulator_->set_realtime(options.sim_realtime);
     if (options.sim_dead_after_s >= 0)
       simulator_->inject_dead_after(static_cast<std::int64_t>(options.sim_dead_after_s * 1e9));
+    if (options.sim_nack_at_s >= 0)
+      simulator_->inject_nack_at(static_cast<std::int64_t>(options.sim_nack_at_s * 1e9), 3);
+    if (options.sim_stuck_at_s >= 0)
+      simulator_->inject_stuck_at(static_cast<std::int64_t>(options.sim_stuck_at_s * 1e9), 3'000'000'000);
     bus = simulator_.get();
     ready = simulator_.get();
   } else {

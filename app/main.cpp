@@ -32,6 +32,8 @@ void add_sensor_options(CLI::App* cmd, app::SensorOptions& s) {
   cmd->add_option("--sim-rate-error", s.sim_rate_error)->group("");
   cmd->add_flag("--sim-realtime", s.sim_realtime)->group("");
   cmd->add_option("--sim-dead-after", s.sim_dead_after_s)->group("");
+  cmd->add_option("--sim-nack-at", s.sim_nack_at_s)->group("");
+  cmd->add_option("--sim-stuck-at", s.sim_stuck_at_s)->group("");
 }
 
 }  // namespace

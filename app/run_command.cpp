@@ -80,6 +80,7 @@ int run_live(const RunOptions& options) {
   job.record_path = options.record_path;
   job.state_path = options.state_path ? options.state_path : config.state_path;
   job.state_save_interval_s = config.state_save_interval_s;
+  job.state_restore_heading = config.state_restore_heading;
   job.publish = options.publish;
   job.dds = config.dds;
   job.duration_s = options.duration_s;

@@ -84,7 +84,7 @@ double percentile(std::vector<double> v, double p) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  app::DdsSettings settings;
+  app::DdsSettings settings{};
   settings.domain_id = 45;
   settings.orientation_rate_hz = kRateHz;
   if (argc > 1) settings.profiles_xml = argv[1];

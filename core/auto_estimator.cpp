@@ -14,6 +14,10 @@ constexpr double kTimeEpsilonS = 1e-9;
 // Before anything is known the bias could be anywhere within the chip's zero-rate level
 // (datasheet: +-25 dps at 2000 dps full scale; a few dps at 245 dps in practice).
 constexpr double kUnknownBiasSigmaDps = 2.0;
+// A segment under a "stopped" hint whose mean is this far from the bias turns, whatever the
+// hint says: thermal drift of the bias is hundredths of a dps per segment, not tenths.
+constexpr double kHintConflictDps = 0.3;
+constexpr double kHintConflictSigmas = 10.0;
 
 }  // namespace
 
@@ -38,7 +42,8 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
   bias_from_startup_only_ = true;
 }
 
-void AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
+double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
+  const double before_deg = filters_[2].angle_deg();
   if (variance_deg2 <= 0.0) {
     filters_[2].fix_angle(heading_deg);
   } else {
@@ -48,6 +53,13 @@ void AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   // retraction of the segment before it (its states predate the fix).
   segment_.filters_at_start[2] = filters_[2].state();
   commit_last_accepted();
+  return filters_[2].angle_deg() - before_deg;
+}
+
+void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {
+  filters_[2].restore_angle(heading_deg, variance_deg2);
+  segment_.filters_at_start[2] = filters_[2].state();
+  estimate_.heading_deg = heading_deg;
 }
 
 void AutoEstimator::begin_segment(double t_s) {
@@ -138,7 +150,19 @@ SegmentVerdict AutoEstimator::close_segment() {
     previous_.predicted_dps[static_cast<Eigen::Index>(axis)] = filters_[axis].bias_dps();
     previous_.predicted_var[static_cast<Eigen::Index>(axis)] = filters_[axis].bias_variance();
   }
-  verdict.accepted = hint_ != MotionHint::Moving && (mean_ok || hint_ == MotionHint::Stopped);
+  // The vehicle says it stands still while the gyro clearly turns (a turntable, a lift, a
+  // wrong hint): the gyro wins, and the conflict is counted for the operator.
+  bool hint_conflict = false;
+  if (hint_ == MotionHint::Stopped && !mean_ok) {
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      const auto i = static_cast<Eigen::Index>(axis);
+      const double sd = std::sqrt(filters_[axis].bias_variance() + r[i]);
+      if (std::abs(mean[i] - filters_[axis].bias_dps()) > std::max(kHintConflictDps, kHintConflictSigmas * sd))
+        hint_conflict = true;
+    }
+  }
+  if (hint_conflict) ++hint_conflicts_;
+  verdict.accepted = hint_ != MotionHint::Moving && (mean_ok || (hint_ == MotionHint::Stopped && !hint_conflict));
   const double deviation_z = mean.z() - filters_[2].bias_dps();
   const double sd_z = std::sqrt(filters_[2].bias_variance() + r.z());
   if (verdict.accepted) {

@@ -35,6 +35,9 @@ class AutoEstimator {
   const Estimate& last() const { return estimate_; }
 
   void set_motion_hint(MotionHint hint) { hint_ = hint; }
+  MotionHint motion_hint() const { return hint_; }
+  // Segments the vehicle called stopped that the gyro showed turning (the gyro won).
+  std::uint64_t hint_conflicts() const { return hint_conflicts_; }
   // Restores a bias (after a restart) with its sigma; ends the start-up phase.
   void set_bias(const Vec3& bias_dps, const Vec3& sigma_dps);
   // Restores the noise figures learned before a restart (unless configured): without them a
@@ -46,8 +49,10 @@ class AutoEstimator {
   void restore_temperature_model(int axis, const TemperatureModel::Sums& sums, std::uint32_t points) {
     models_.restore_temperature_model(axis, sums, points);
   }
-  // A heading fix at a reference point, with its variance.
-  void set_heading(double heading_deg, double variance_deg2);
+  // A heading fix at a reference point, with its variance. Returns how far the heading moved.
+  double set_heading(double heading_deg, double variance_deg2);
+  // The heading saved before a restart, with its variance then.
+  void restore_heading(double heading_deg, double variance_deg2);
 
   bool in_startup() const { return in_startup_; }
   const Vec3& sigma_still_dps() const { return models_.sigma_still_dps(); }
@@ -141,6 +146,7 @@ class AutoEstimator {
   Segment segment_;
   Estimate estimate_;
   MotionHint hint_ = MotionHint::None;
+  std::uint64_t hint_conflicts_ = 0;
 
   double walk_dps2_per_s_ = 0.0;  // q
   bool started_ = false;

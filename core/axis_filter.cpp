@@ -67,6 +67,11 @@ void AxisFilter::fix_angle(double angle_deg) {
   state_.covariance(0, 1) = state_.covariance(1, 0) = 0.0;
 }
 
+void AxisFilter::restore_angle(double angle_deg, double variance_deg2) {
+  fix_angle(angle_deg);
+  state_.covariance(0, 0) = variance_deg2;
+}
+
 void AxisFilter::soften_verdict(double correction_deg, double variance_deg2) {
   state_.angle_deg += correction_deg;
   state_.covariance(0, 0) += variance_deg2;

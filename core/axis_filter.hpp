@@ -38,6 +38,8 @@ class AxisFilter {
   void set_bias(double bias_dps, double variance_dps2);
   // an exact heading fix: the angle is known, and so uncorrelated with anything;
   void fix_angle(double angle_deg);
+  // the angle saved before a restart, with its variance then, uncorrelated with the bias;
+  void restore_angle(double angle_deg, double variance_deg2);
   // a verdict that may be wrong: the angle moves by the expected correction and takes the
   // variance of the two-point posterior;
   void soften_verdict(double correction_deg, double variance_deg2);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/estimate.hpp"
 #include "core/method.hpp"
 #include "core/sample.hpp"
 #include "core/temperature_model.hpp"
@@ -33,6 +34,13 @@ struct Diagnostics {
   Vec3 noise_density_dps_rt_hz = Vec3::Zero();
   double last_still_t_s = std::numeric_limits<double>::quiet_NaN();  // end of the last accepted segment
   std::array<TemperatureModelState, 3> temperature{};
+  // Heading fixes (set-heading) so far, and the sum of the jumps they made: heading minus this
+  // offset is continuous (what the ROS Imu publishes as yaw).
+  std::uint64_t heading_fixes = 0;
+  // auto: the vehicle's motion hint in force, and stops it claimed that the gyro contradicted.
+  MotionHint motion_hint = MotionHint::None;
+  std::uint64_t hint_conflicts = 0;
+  double heading_fix_offset_deg = 0.0;
 };
 
 // What survives a restart (the state file): the bias and what was learned about the sensor.
@@ -43,6 +51,11 @@ struct LearnedState {
   Vec3 arw_dps_rt_hz = Vec3::Zero();    // zero when unknown
   std::array<TemperatureModel::Sums, 3> temperature_sums{};
   std::array<std::uint32_t, 3> temperature_points{};
+  // The heading when saved and its variance (NaN: none kept), and the fix offset then, so the
+  // heading and the continuous yaw go on across a restart.
+  double heading_deg = std::numeric_limits<double>::quiet_NaN();
+  double heading_variance_deg2 = std::numeric_limits<double>::quiet_NaN();
+  double heading_fix_offset_deg = 0.0;
 };
 
 }  // namespace headingd::core

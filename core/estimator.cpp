@@ -1,6 +1,7 @@
 #include "core/estimator.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace headingd::core {
 namespace {
@@ -73,11 +74,15 @@ Diagnostics Estimator::diagnostics() const {
   d.rejected_segments = rejected_segments();
   d.segment_s = settings_.segments.segment_s;
   d.sigma_still_dps = sigma_still_dps();
+  d.heading_fixes = heading_fixes_;
+  d.heading_fix_offset_deg = heading_fix_offset_deg_;
   if (const auto* a = std::get_if<AutoEstimator>(&impl_)) {
     d.retracted_segments = a->retracted_segments();
     d.bias_recoveries = a->bias_recoveries();
     d.noise_density_dps_rt_hz = a->noise_density_dps_rt_hz();
     d.last_still_t_s = a->last_still_t_s();
+    d.motion_hint = a->motion_hint();
+    d.hint_conflicts = a->hint_conflicts();
     for (int axis = 0; axis < 3; ++axis) {
       const TemperatureModel& model = a->temperature_model(axis);
       d.temperature[static_cast<std::size_t>(axis)] = {model.ready(), model.slope_dps_per_c(25.0),
@@ -94,6 +99,13 @@ LearnedState Estimator::learned() const {
   // exact: give it a modest one.
   state.bias_sigma_dps =
       last().bias_sigma_dps.allFinite() ? last().bias_sigma_dps : Vec3::Constant(kUnknownSigmaRestoredDps);
+  if (samples_ > 0 && std::isfinite(last().heading_deg)) {
+    state.heading_deg = last().heading_deg;
+    const double sigma = last().heading_sigma_deg;
+    // The paper's methods give no sigma: the heading is kept, its uncertainty unknown.
+    state.heading_variance_deg2 = std::isfinite(sigma) ? sigma * sigma : std::numeric_limits<double>::quiet_NaN();
+    state.heading_fix_offset_deg = heading_fix_offset_deg_;
+  }
   if (const auto* a = std::get_if<AutoEstimator>(&impl_)) {
     state.sigma_still_dps = a->sigma_still_dps();
     state.arw_dps_rt_hz = a->noise_density_dps_rt_hz();
@@ -105,8 +117,16 @@ LearnedState Estimator::learned() const {
   return state;
 }
 
-void Estimator::restore(const LearnedState& state) {
+void Estimator::restore(const LearnedState& state, bool with_heading) {
   restore_bias(state.bias_dps, state.bias_sigma_dps);
+  if (with_heading && std::isfinite(state.heading_deg)) {
+    if (auto* a = std::get_if<AutoEstimator>(&impl_))
+      a->restore_heading(state.heading_deg,
+                         std::isfinite(state.heading_variance_deg2) ? state.heading_variance_deg2 : 0.0);
+    else
+      std::get<PaperEstimator>(impl_).set_heading(state.heading_deg);
+    heading_fix_offset_deg_ = std::isfinite(state.heading_fix_offset_deg) ? state.heading_fix_offset_deg : 0.0;
+  }
   if (auto* a = std::get_if<AutoEstimator>(&impl_)) {
     a->set_noise(state.sigma_still_dps, state.arw_dps_rt_hz);
     for (std::size_t axis = 0; axis < 3; ++axis)
@@ -128,11 +148,14 @@ void Estimator::restore_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
 }
 
 void Estimator::set_heading(double heading_deg, double variance_deg2) {
+  double jump_deg = 0.0;
   if (auto* a = std::get_if<AutoEstimator>(&impl_)) {
-    a->set_heading(heading_deg, variance_deg2);
+    jump_deg = a->set_heading(heading_deg, variance_deg2);
   } else {
-    std::get<PaperEstimator>(impl_).set_heading(heading_deg);
+    jump_deg = std::get<PaperEstimator>(impl_).set_heading(heading_deg);
   }
+  ++heading_fixes_;
+  heading_fix_offset_deg_ += jump_deg;
 }
 
 }  // namespace headingd::core

@@ -42,7 +42,8 @@ class Estimator {
   Diagnostics diagnostics() const;
   // What a restart should start from (the state file), and taking it back.
   LearnedState learned() const;
-  void restore(const LearnedState& state);
+  // `with_heading`: also the heading saved with it (a vehicle that was not moved meanwhile).
+  void restore(const LearnedState& state, bool with_heading = true);
 
   void set_motion_hint(MotionHint hint);
   // Restores a bias with its sigma (after a restart): no calibration stop needed.
@@ -56,6 +57,8 @@ class Estimator {
   EstimatorSettings settings_;
   std::variant<PaperEstimator, AutoEstimator> impl_;
   std::uint64_t samples_ = 0;
+  std::uint64_t heading_fixes_ = 0;
+  double heading_fix_offset_deg_ = 0.0;
 };
 
 }  // namespace headingd::core

@@ -18,7 +18,12 @@ class PaperEstimator {
   const Estimate& last() const { return estimate_; }
   const BiasTracker& tracker() const { return tracker_; }
   void set_bias(const Vec3& bias_dps) { tracker_.set_bias(bias_dps); }
-  void set_heading(double heading_deg) { heading_.set_heading_deg(heading_deg); }
+  // Returns how far the heading moved.
+  double set_heading(double heading_deg) {
+    const double before_deg = heading_.heading_deg();
+    heading_.set_heading_deg(heading_deg);
+    return heading_deg - before_deg;
+  }
 
  private:
   BiasTracker tracker_;

@@ -19,14 +19,18 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "core/units.hpp"
 #include "core/version.hpp"
 #include "dds/dds_participant.hpp"
+#include "dds/imu_message.hpp"
+#include "dds/ros_discovery_info.hpp"
 #include "dds/shm_cleanup.hpp"
+#include "dds/stop_hint.hpp"
 #include "dds/wire_method.hpp"
 #include "headingdPubSubTypes.h"
-#include "sensor_msgs_ImuPubSubTypes.h"
+#include "ros2_msgsPubSubTypes.h"
 
 namespace headingd::app {
 
@@ -114,6 +118,69 @@ struct Discovery : public DomainParticipantListener {
   }
 };
 
+// Why inbound messages were refused, for the pipeline to log (rate-limited, at the configured
+// level): the DDS layer writes no log lines of its own. Bounded: a flood is counted, not kept.
+struct Refusals {
+  static constexpr std::size_t kKept = 32;
+  std::mutex mutex;
+  std::vector<Refusal> pending;
+  std::uint64_t dropped = 0;
+  void add(RefusalKind kind, std::string why) {
+    std::lock_guard lock(mutex);
+    if (pending.size() < kKept)
+      pending.push_back({kind, std::move(why)});
+    else
+      ++dropped;
+  }
+};
+
+// The vehicle's motion (Odometry, Twist or TwistStamped) into the stop-hint tracker.
+struct MotionListener : public DataReaderListener {
+  StopHintType type = StopHintType::Odometry;
+  std::mutex* mutex = nullptr;
+  StopHintTracker* tracker = nullptr;
+  Refusals* refusals = nullptr;
+
+  template <typename Message, typename TwistOf>
+  void take_all(DataReader* reader, bool stamped, TwistOf twist_of) {
+    Message message;
+    SampleInfo info;
+    while (reader->take_next_sample(&message, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      MotionReport r;
+      if constexpr (requires { message.header(); })
+        if (stamped) r.stamp_s = message.header().stamp().sec() + message.header().stamp().nanosec() * 1e-9;
+      const auto& t = twist_of(message);
+      r.linear_m_s = core::Vec3(t.linear().x(), t.linear().y(), t.linear().z());
+      r.angular_rad_s = core::Vec3(t.angular().x(), t.angular().y(), t.angular().z());
+      std::string why;
+      bool ok = false;
+      {
+        std::lock_guard lock(*mutex);
+        ok = tracker->offer(r, wall_now_s(), why);
+      }
+      if (!ok) refusals->add(RefusalKind::Motion, why);
+    }
+  }
+
+  void on_data_available(DataReader* reader) override {
+    switch (type) {
+      case StopHintType::Odometry:
+        take_all<nav_msgs::msg::dds_::Odometry_>(
+            reader, true, [](const auto& m) -> const auto& { return m.twist().twist(); });
+        break;
+      case StopHintType::Twist:
+        take_all<geometry_msgs::msg::dds_::Twist_>(
+            reader, false, [](const auto& m) -> const auto& { return m; });
+        break;
+      case StopHintType::TwistStamped:
+        take_all<geometry_msgs::msg::dds_::TwistStamped_>(
+            reader, true, [](const auto& m) -> const auto& { return m.twist(); });
+        break;
+    }
+  }
+};
+
 struct DdsNode::Impl : public DataReaderListener {
   Discovery discovery;
   DomainParticipant* participant = nullptr;
@@ -124,10 +191,18 @@ struct DdsNode::Impl : public DataReaderListener {
   DataWriter* bias = nullptr;
   DataWriter* status = nullptr;
   DataReader* command = nullptr;
+  DataWriter* diagnostics = nullptr;
+  DataWriter* temperature = nullptr;
+  DataWriter* discovery_info = nullptr;
+  DataReader* motion = nullptr;
   CommandLimits limits;
   std::mutex mutex;
   std::vector<ValidCommand> commands;
   std::uint64_t accepted = 0, rejected = 0;
+  Refusals refusals;
+  MotionListener motion_listener;
+  std::optional<StopHintTracker> stop_hint;  // guarded by `mutex`
+  core::MotionHint hint_sent = core::MotionHint::None;
 
   Topic* topic(const std::string& name, const TypeSupport& type) {
     type.register_type(participant);
@@ -154,19 +229,22 @@ struct DdsNode::Impl : public DataReaderListener {
                    message.heading_rad(), message.heading_variance_rad2()};
       std::string why;
       const auto valid = validate_command(in, wall_now_s(), limits, why);
-      std::lock_guard lock(mutex);
-      if (valid) {
-        ++accepted;
-        commands.push_back(*valid);
-      } else {
-        ++rejected;
-        std::fprintf(stderr, "<4>headingd: HeadingCommand refused: %s\n", why.c_str());
+      {
+        std::lock_guard lock(mutex);
+        if (valid) {
+          ++accepted;
+          commands.push_back(*valid);
+        } else {
+          ++rejected;
+        }
       }
+      if (!valid) refusals.add(RefusalKind::Command, why);
     }
   }
 };
 
-DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()), settings_(settings) {
+DdsNode::DdsNode(const DdsSettings& settings)
+    : impl_(std::make_unique<Impl>()), settings_(settings), diagnostics_builder_(settings.ros) {
   Impl& d = *impl_;
   d.limits = settings.command_limits;
   if (settings.transport == DdsTransport::SharedMemory) {
@@ -208,9 +286,29 @@ DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()),
     d.orientation =
         d.writer(d.topic(topic_name(settings, "orientation"), TypeSupport(new headingd::msg::OrientationPubSubType())),
                  stream, "headingd_orientation");
+    const RosSettings& ros = settings.ros;
     if (settings.publish_imu) {
-      d.imu = d.writer(d.topic("rt/" + settings.imu_topic, TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType())),
-                       stream, "headingd_imu");
+      d.imu = d.writer(
+          d.topic(ros_topic(ros, settings.imu_topic), TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType())),
+          stream, "headingd_imu");
+    }
+    // ROS's default profile (reliable, volatile, keep last 10): what diagnostic_updater and
+    // most drivers publish with, and matched by reliable and best-effort readers alike.
+    DataWriterQos ros_default = DATAWRITER_QOS_DEFAULT;
+    ros_default.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    ros_default.durability().kind = VOLATILE_DURABILITY_QOS;
+    ros_default.history().kind = KEEP_LAST_HISTORY_QOS;
+    ros_default.history().depth = 10;
+    apply_transport(settings, ros_default);
+    if (ros.diagnostics) {
+      d.diagnostics = d.writer(d.topic(ros_topic(ros, "/diagnostics"),
+                                       TypeSupport(new diagnostic_msgs::msg::dds_::DiagnosticArray_PubSubType())),
+                               ros_default, "headingd_diagnostics");
+    }
+    if (!ros.temperature_topic.empty()) {
+      d.temperature = d.writer(d.topic(ros_topic(ros, ros.temperature_topic),
+                                       TypeSupport(new sensor_msgs::msg::dds_::Temperature_PubSubType())),
+                               ros_default, "headingd_temperature");
     }
     d.bias = d.writer(d.topic(topic_name(settings, "bias"), TypeSupport(new headingd::msg::GyroBiasPubSubType())),
                       latched, "headingd_bias");
@@ -225,6 +323,36 @@ DdsNode::DdsNode(const DdsSettings& settings) : impl_(std::make_unique<Impl>()),
         d.topic(topic_name(settings, "command"), TypeSupport(new headingd::msg::HeadingCommandPubSubType())),
         command_qos, &d);
     if (d.command == nullptr) throw std::runtime_error("cannot create the HeadingCommand reader");
+    if (!ros.stop_hint.topic.empty()) {
+      d.stop_hint.emplace(ros.stop_hint, settings.command_limits);
+      d.motion_listener.type = ros.stop_hint.type;
+      d.motion_listener.mutex = &d.mutex;
+      d.motion_listener.tracker = &*d.stop_hint;
+      d.motion_listener.refusals = &d.refusals;
+      TypeSupport type(new nav_msgs::msg::dds_::Odometry_PubSubType());
+      if (ros.stop_hint.type == StopHintType::Twist)
+        type = TypeSupport(new geometry_msgs::msg::dds_::Twist_PubSubType());
+      if (ros.stop_hint.type == StopHintType::TwistStamped)
+        type = TypeSupport(new geometry_msgs::msg::dds_::TwistStamped_PubSubType());
+      // Best effort matches a vehicle's best-effort and reliable writers alike.
+      DataReaderQos motion_qos = DATAREADER_QOS_DEFAULT;
+      motion_qos.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
+      motion_qos.durability().kind = VOLATILE_DURABILITY_QOS;
+      motion_qos.history().kind = KEEP_LAST_HISTORY_QOS;
+      motion_qos.history().depth = 10;
+      apply_transport(settings, motion_qos);
+      d.motion = d.subscriber->create_datareader(d.topic(ros_topic(ros, ros.stop_hint.topic), type), motion_qos,
+                                                 &d.motion_listener);
+      if (d.motion == nullptr) throw std::runtime_error("cannot create the reader for " + ros.stop_hint.topic);
+    }
+    if (ros.discovery_info) {
+      std::vector<const DataReader*> readers{d.command};
+      if (d.motion != nullptr) readers.push_back(d.motion);
+      std::vector<const DataWriter*> writers;
+      for (const DataWriter* w : {d.orientation, d.imu, d.bias, d.status, d.diagnostics, d.temperature})
+        if (w != nullptr) writers.push_back(w);
+      d.discovery_info = publish_ros_discovery_info(*d.participant, *d.publisher, ros, readers, writers);
+    }
   } catch (...) {
     delete_participant(d.participant);
     throw;
@@ -250,9 +378,38 @@ bool DdsNode::wait_for_subscribers(double seconds, const std::atomic<bool>* stop
 }
 
 void DdsNode::take_commands(std::vector<ValidCommand>& out) {
+  Impl& d = *impl_;
+  std::lock_guard lock(d.mutex);
+  out.insert(out.end(), d.commands.begin(), d.commands.end());
+  d.commands.clear();
+  if (d.stop_hint) {
+    // The vehicle's motion, as a hint command whenever what it says changes (stale = none).
+    const core::MotionHint hint = d.stop_hint->hint(wall_now_s());
+    if (hint != d.hint_sent) {
+      d.hint_sent = hint;
+      const CommandKind kind = hint == core::MotionHint::Stopped  ? CommandKind::PlatformStopped
+                               : hint == core::MotionHint::Moving ? CommandKind::PlatformMoving
+                                                                  : CommandKind::ClearHint;
+      out.push_back(ValidCommand{.kind = kind, .hint = hint});
+    }
+  }
+}
+
+std::uint64_t DdsNode::take_refusals(std::vector<Refusal>& out) {
+  std::lock_guard lock(impl_->refusals.mutex);
+  out.insert(out.end(), impl_->refusals.pending.begin(), impl_->refusals.pending.end());
+  impl_->refusals.pending.clear();
+  return std::exchange(impl_->refusals.dropped, 0);
+}
+
+InboundCounts DdsNode::inbound() const {
   std::lock_guard lock(impl_->mutex);
-  out.insert(out.end(), impl_->commands.begin(), impl_->commands.end());
-  impl_->commands.clear();
+  InboundCounts c{.commands_accepted = impl_->accepted, .commands_rejected = impl_->rejected};
+  if (impl_->stop_hint) {
+    c.motion_accepted = impl_->stop_hint->accepted();
+    c.motion_refused = impl_->stop_hint->refused();
+  }
+  return c;
 }
 
 std::vector<Rival> DdsNode::take_rivals() {
@@ -262,17 +419,12 @@ std::vector<Rival> DdsNode::take_rivals() {
   return out;
 }
 
-std::uint64_t DdsNode::commands_accepted() const {
-  std::lock_guard lock(impl_->mutex);
-  return impl_->accepted;
-}
-std::uint64_t DdsNode::commands_rejected() const {
-  std::lock_guard lock(impl_->mutex);
-  return impl_->rejected;
-}
+std::uint64_t DdsNode::commands_accepted() const { return inbound().commands_accepted; }
+std::uint64_t DdsNode::commands_rejected() const { return inbound().commands_rejected; }
 
 bool DdsNode::due(const core::Estimate& e) {
   if (e.closed.closed) last_verdict_still_ = e.closed.accepted;
+  rates_.add(e.rate_dps);
   const double t = e.t_s;
   return t >= next_orientation_s_ || (t >= next_bias_s_ && !e.in_startup) || t >= next_status_s_;
 }
@@ -303,34 +455,27 @@ void DdsNode::publish(const core::Estimate& e, const core::Diagnostics& diagnost
     o.rate_y_rad_s(rate_rad.y());
     o.rate_z_rad_s(rate_rad.z());
     o.still(e.in_startup || last_verdict_still_);
+    o.heading_fixes(diagnostics.heading_fixes);
+    o.yaw_offset_rad(core::deg_to_rad(diagnostics.heading_fix_offset_deg));
     d.orientation->write(&o);
     if (d.imu != nullptr) {
+      const ImuFields f = imu_fields(e, diagnostics, rates_, settings_.ros);
       sensor_msgs::msg::dds_::Imu_ imu;
       set_stamp(imu.header().stamp(), stamp_s);
       imu.header().frame_id(settings_.frame_id);
-      imu.orientation().x(e.attitude.x());
-      imu.orientation().y(e.attitude.y());
-      imu.orientation().z(e.attitude.z());
-      imu.orientation().w(e.attitude.w());
-      // Only yaw is tracked with a variance; roll and pitch come from the gyro alone.
-      const double yaw_var = std::isfinite(sigma_rad) ? sigma_rad * sigma_rad : 1e6;
-      imu.orientation_covariance() = {1e6, 0, 0, 0, 1e6, 0, 0, 0, yaw_var};
-      imu.angular_velocity().x(rate_rad.x());
-      imu.angular_velocity().y(rate_rad.y());
-      imu.angular_velocity().z(rate_rad.z());
-      // One sample's rate: its own noise (sigma_still) plus the uncertainty of the bias taken
-      // off it. All zeros, ROS's "covariance unknown", until both are measured.
-      const core::Vec3 bias_sigma = e.bias_sigma_dps * core::kRadPerDeg;
-      const core::Vec3 sample_sigma = diagnostics.sigma_still_dps * core::kRadPerDeg;
-      imu.angular_velocity_covariance() = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-      if (bias_sigma.allFinite() && (sample_sigma.array() > 0.0).all()) {
-        for (int a = 0; a < 3; ++a)
-          imu.angular_velocity_covariance()[4 * static_cast<std::size_t>(a)] =
-              sample_sigma[a] * sample_sigma[a] + bias_sigma[a] * bias_sigma[a];
-      }
-      imu.linear_acceleration_covariance() = {-1, 0, 0, 0, 0, 0, 0, 0, 0};  // not provided
+      imu.orientation().x(f.orientation_xyzw[0]);
+      imu.orientation().y(f.orientation_xyzw[1]);
+      imu.orientation().z(f.orientation_xyzw[2]);
+      imu.orientation().w(f.orientation_xyzw[3]);
+      imu.orientation_covariance() = f.orientation_covariance;
+      imu.angular_velocity().x(f.angular_velocity_rad_s[0]);
+      imu.angular_velocity().y(f.angular_velocity_rad_s[1]);
+      imu.angular_velocity().z(f.angular_velocity_rad_s[2]);
+      imu.angular_velocity_covariance() = f.angular_velocity_covariance;
+      imu.linear_acceleration_covariance() = f.linear_acceleration_covariance;
       d.imu->write(&imu);
     }
+    rates_.clear();
   }
   // No GyroBias before the start-up segment has measured one: a zero bias would read as known.
   if (t >= next_bias_s_ && !e.in_startup) {
@@ -355,6 +500,7 @@ void DdsNode::publish(const core::Estimate& e, const core::Diagnostics& diagnost
   }
   if (t >= next_status_s_) {
     next_status_s_ = t + 1.0;
+    const InboundCounts counts = inbound();
     headingd::msg::Status s;
     set_stamp(s.stamp(), stamp_s);
     s.state(static_cast<headingd::msg::SensorState>(static_cast<int>(report.state)));
@@ -363,12 +509,48 @@ void DdsNode::publish(const core::Estimate& e, const core::Diagnostics& diagnost
     s.samples_dropped(report.samples_dropped);
     s.bus_errors(report.bus_errors);
     s.fifo_overruns(report.fifo_overruns);
-    s.commands_accepted(commands_accepted());
-    s.commands_rejected(commands_rejected());
+    s.commands_accepted(counts.commands_accepted);
+    s.commands_rejected(counts.commands_rejected);
     s.uptime_s(report.uptime_s);
     s.version(kVersion);
     s.other_publishers(report.other_publishers);
+    s.motion_messages_accepted(counts.motion_accepted);
+    s.motion_messages_refused(counts.motion_refused);
     d.status->write(&s);
+    publish_ros_health(e, diagnostics, report, counts, stamp_s);
+  }
+}
+
+void DdsNode::publish_ros_health(const core::Estimate& e, const core::Diagnostics& diagnostics,
+                                 const StatusReport& report, const InboundCounts& counts, double stamp_s) {
+  Impl& d = *impl_;
+  if (d.diagnostics != nullptr) {
+    diagnostic_msgs::msg::dds_::DiagnosticArray_ array;
+    set_stamp(array.header().stamp(), stamp_s);
+    for (const DiagnosticEntry& entry : diagnostics_builder_.build(e, diagnostics, report, counts)) {
+      diagnostic_msgs::msg::dds_::DiagnosticStatus_ status;
+      status.level(static_cast<std::uint8_t>(entry.level));
+      status.name(entry.name);
+      status.message(entry.message);
+      status.hardware_id(entry.hardware_id);
+      for (const auto& [key, value] : entry.values) {
+        diagnostic_msgs::msg::dds_::KeyValue_ kv;
+        kv.key(key);
+        kv.value(value);
+        status.values().push_back(std::move(kv));
+      }
+      array.status().push_back(std::move(status));
+    }
+    d.diagnostics->write(&array);
+  }
+  // A recording without temperatures has none to give.
+  if (d.temperature != nullptr && std::isfinite(e.temp_c)) {
+    sensor_msgs::msg::dds_::Temperature_ temperature;
+    set_stamp(temperature.header().stamp(), stamp_s);
+    temperature.header().frame_id(settings_.frame_id);
+    temperature.temperature(e.temp_c);
+    temperature.variance(0.0);  // unknown: the L3GD20H's sensor is uncalibrated (datasheet: typ. -1 LSB/degC)
+    d.temperature->write(&temperature);
   }
 }
 

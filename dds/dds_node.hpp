@@ -15,23 +15,22 @@
 #include "core/diagnostics.hpp"
 #include "core/estimate.hpp"
 #include "dds/dds_settings.hpp"
+#include "dds/imu_message.hpp"
+#include "dds/ros_diagnostics.hpp"
+#include "dds/status_report.hpp"
 
 namespace headingd::app {
-
-// SensorState in the IDL, in its order.
-enum class SensorState : int { Starting = 0, Ok = 1, Degraded = 2, Failed = 3, Replay = 4 };
-
-struct StatusReport {
-  SensorState state = SensorState::Starting;
-  double sample_rate_hz = 0.0;
-  std::uint64_t samples_received = 0, samples_dropped = 0, bus_errors = 0, fifo_overruns = 0;
-  double uptime_s = 0.0;
-  std::uint32_t other_publishers = 0;
-};
 
 // The most Orientation (and Imu) messages one wake-up of the sensor can make due at once, with
 // margin: the best-effort writer keeps this many, and so should a reader that wants them all.
 inline constexpr int kOrientationBurst = 8;
+
+// An inbound message refused, and why (for the caller's rate-limited log).
+enum class RefusalKind { Command, Motion };
+struct Refusal {
+  RefusalKind kind;
+  std::string why;
+};
 
 // Another participant publishing our orientation topic.
 struct Rival {
@@ -55,8 +54,12 @@ class DdsNode {
   void publish(const core::Estimate& estimate, const core::Diagnostics& diagnostics, const StatusReport& status,
                double wall_offset_s);
   // Appends the commands received and validated since the last call (rejected ones are
-  // counted and logged).
+  // counted), and a motion hint whenever the vehicle's own motion topic changes its say.
   void take_commands(std::vector<ValidCommand>& out);
+  // Appends why messages were refused since the last call (at most a few dozen are kept);
+  // returns how many more were refused beyond those.
+  std::uint64_t take_refusals(std::vector<Refusal>& out);
+  InboundCounts inbound() const;
   std::uint64_t commands_accepted() const;
   std::uint64_t commands_rejected() const;
   std::uint64_t orientation_sent() const { return orientation_seq_; }
@@ -69,8 +72,13 @@ class DdsNode {
   struct Impl;
 
  private:
+  void publish_ros_health(const core::Estimate& e, const core::Diagnostics& diagnostics, const StatusReport& report,
+                          const InboundCounts& counts, double stamp_s);
+
   std::unique_ptr<Impl> impl_;
   DdsSettings settings_;
+  DiagnosticsBuilder diagnostics_builder_;
+  RateWindow rates_;  // bias-corrected rates since the last Imu
   std::uint64_t orientation_seq_ = 0;
   double next_orientation_s_ = -1e300;
   double next_status_s_ = -1e300;

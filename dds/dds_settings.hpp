@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "dds/command_validator.hpp"
+#include "dds/ros_settings.hpp"
 
 namespace headingd::app {
 
@@ -36,8 +37,8 @@ struct DdsSettings {
   int domain_id = 0;                // [0, 232]
   std::string prefix = "headingd";  // topics PREFIX/orientation, /bias, /status, /command
   bool ros2_naming = false;         // our topics as ROS 2 names them on the wire: rt/PREFIX/...
-  bool publish_imu = true;          // sensor_msgs/msg/Imu on rt/IMU_TOPIC
-  std::string imu_topic = "imu";
+  bool publish_imu = true;          // sensor_msgs/msg/Imu on the ROS topic IMU_TOPIC (REP-145's name)
+  std::string imu_topic = "imu/data";
   std::string frame_id = "imu_link";
   double orientation_rate_hz = 50.0;        // Orientation and Imu messages per second (0, 1000]
   bool orientation_reliable = false;        // false: best-effort (latest wins); true: reliable
@@ -50,6 +51,7 @@ struct DdsSettings {
   std::vector<std::string> discovery_servers;
   CommandLimits command_limits;
   DdsSecurity security;
+  RosSettings ros;  // the ROS 2 face: node, Imu semantics, diagnostics, temperature, stop hints
 };
 
 // The topic name for one of our topics, with the naming in force.

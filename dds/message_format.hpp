@@ -2,7 +2,7 @@
 #include <string>
 
 #include "headingd.h"
-#include "sensor_msgs_Imu.h"
+#include "ros2_msgs.h"
 
 namespace headingd::app {
 

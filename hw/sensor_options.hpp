@@ -23,6 +23,8 @@ struct SensorOptions {
   double sim_rate_error = 0.0;
   bool sim_realtime = false;       // the simulator runs at the chip's real pace
   double sim_dead_after_s = -1.0;  // the simulated sensor dies after this long
+  double sim_nack_at_s = -1.0;     // a burst of NACKs (bus errors) at this time
+  double sim_stuck_at_s = -1.0;    // the output stuck for 3 s from this time
 };
 
 }  // namespace headingd::app

@@ -59,6 +59,9 @@ std::string format_state(const SavedState& s) {
   body << "temp_c=" << numbers({s.temp_c}) << "\n";
   body << "sigma_still_dps=" << numbers({s.sigma_still_dps.x(), s.sigma_still_dps.y(), s.sigma_still_dps.z()}) << "\n";
   body << "arw_dps_rt_hz=" << numbers({s.arw_dps_rt_hz.x(), s.arw_dps_rt_hz.y(), s.arw_dps_rt_hz.z()}) << "\n";
+  // Optional (files from before it lack it): heading, its variance (nan: none) and fix offset.
+  if (std::isfinite(s.heading_deg))
+    body << "heading_deg=" << numbers({s.heading_deg, s.heading_variance_deg2, s.heading_fix_offset_deg}) << "\n";
   for (int a = 0; a < 3; ++a) {
     const auto& t = s.temperature_sums[static_cast<std::size_t>(a)];
     body << "temperature_model_"
@@ -118,13 +121,23 @@ SavedState parse_state(const std::string& text, const std::string& name) {
   s.bias_dps = core::Vec3(b[0], b[1], b[2]);
   s.bias_sigma_dps = core::Vec3(sg[0], sg[1], sg[2]);
   if (!s.bias_dps.allFinite() || !s.bias_sigma_dps.allFinite() || (s.bias_sigma_dps.array() < 0).any() ||
-      s.bias_dps.cwiseAbs().maxCoeff() > 100.0)
+      s.bias_dps.cwiseAbs().maxCoeff() > 100.0 || s.bias_sigma_dps.maxCoeff() > 100.0)
     fail("bias values out of range");
   s.temp_c = need("temp_c", 1)[0];
   const auto& ss = need("sigma_still_dps", 3);
   const auto& arw = need("arw_dps_rt_hz", 3);
   s.sigma_still_dps = core::Vec3(ss[0], ss[1], ss[2]);
   s.arw_dps_rt_hz = core::Vec3(arw[0], arw[1], arw[2]);
+  if (const auto it = fields.find("heading_deg"); it != fields.end()) {
+    const auto& h = need("heading_deg", 3);
+    // An unwrapped heading of a million degrees is thousands of turns: beyond that, corrupt.
+    const bool variance_ok = std::isnan(h[1]) || (h[1] >= 0.0 && h[1] <= 1e6);
+    if (!std::isfinite(h[0]) || std::abs(h[0]) > 1e7 || !variance_ok || !std::isfinite(h[2]) || std::abs(h[2]) > 1e7)
+      fail("heading values out of range");
+    s.heading_deg = h[0];
+    s.heading_variance_deg2 = h[1];
+    s.heading_fix_offset_deg = h[2];
+  }
   for (int a = 0; a < 3; ++a) {
     const auto& t = need(std::string("temperature_model_") + "xyz"[a], 12);
     auto& sums = s.temperature_sums[static_cast<std::size_t>(a)];

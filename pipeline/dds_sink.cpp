@@ -16,7 +16,29 @@ DdsSink::DdsSink(app::DdsNode& node, const core::SampleSource& source, StampCloc
                  app::DuplicatePolicy on_duplicate, WallStamps::WallClock wall)
     : node_(node), source_(source), clock_(clock), on_duplicate_(on_duplicate), stamps_(wall), wall_(std::move(wall)) {}
 
-void DdsSink::batch_done(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) {
+void DdsSink::log_inbound(const core::Estimator& estimator) {
+  refusals_.clear();
+  const std::uint64_t more = node_.take_refusals(refusals_);
+  // Through the log's per-kind limit (a few lines per 10 s) and its level: a flood of bad
+  // messages is counted on Status and /diagnostics, not written line by line.
+  for (const app::Refusal& refusal : refusals_) {
+    const bool command = refusal.kind == app::RefusalKind::Command;
+    app::log(app::LogPriority::Warning, command ? "refused command" : "refused motion",
+             std::string(command ? "HeadingCommand" : "vehicle motion message") + " refused: " + refusal.why);
+  }
+  if (more > 0)
+    app::log(app::LogPriority::Warning, "refused flood",
+             std::to_string(more) + " more inbound messages refused (counted on Status)");
+  if (const auto* automatic = estimator.automatic(); automatic != nullptr && automatic->hint_conflicts() > conflicts_) {
+    conflicts_ = automatic->hint_conflicts();
+    app::log(app::LogPriority::Warning, "hint conflict",
+             "the vehicle says it stands still but the gyro turns: segment not taken as still (" +
+                 std::to_string(conflicts_) + " so far)");
+  }
+}
+
+void DdsSink::batch_done(const core::Estimator& estimator, const core::SampleSource& /*source*/) {
+  log_inbound(estimator);
   for (const app::Rival& rival : node_.take_rivals()) {
     ++rivals_;
     const bool refuse = on_duplicate_ == app::DuplicatePolicy::Refuse && rival.started_before_us;
@@ -52,6 +74,9 @@ app::StatusReport DdsSink::report(const core::Estimate& estimate) {
   r.samples_dropped = health.lost_samples;
   r.bus_errors = health.bus_errors;
   r.fifo_overruns = health.overruns;
+  r.recoveries = health.recoveries;
+  r.nominal_rate_hz = source_.nominal_rate_hz();
+  r.stuck_samples = stuck_samples_;
   r.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
   r.other_publishers = rivals_;
   return r;
@@ -59,6 +84,8 @@ app::StatusReport DdsSink::report(const core::Estimate& estimate) {
 
 void DdsSink::add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) {
   if (samples_++ == 0) first_t_s_ = sample.t_s;
+  stuck_samples_ = samples_ > 1 && sample.rate_dps == last_rate_dps_ ? stuck_samples_ + 1 : 0;
+  last_rate_dps_ = sample.rate_dps;
   // Stamps never go backwards, whatever the system clock does meanwhile.
   const double stamp_s =
       clock_ == StampClock::FirstSample ? stamps_.stamp(sample.t_s) : std::max(wall_(), last_stamp_s_);

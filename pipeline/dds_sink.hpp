@@ -29,6 +29,7 @@ class DdsSink final : public Sink, public CommandInbox {
 
  private:
   app::StatusReport report(const core::Estimate& estimate);
+  void log_inbound(const core::Estimator& estimator);
 
   app::DdsNode& node_;
   const core::SampleSource& source_;
@@ -42,6 +43,10 @@ class DdsSink final : public Sink, public CommandInbox {
   double degraded_until_s_ = -1.0;  // sample time until which a recent fault shows as DEGRADED
   std::uint64_t samples_ = 0;
   std::uint32_t rivals_ = 0;
+  std::uint64_t conflicts_ = 0;
+  std::vector<app::Refusal> refusals_;
+  core::Vec3 last_rate_dps_ = core::Vec3::Zero();
+  std::uint64_t stuck_samples_ = 0;  // samples equal to the one before on all three axes
   double first_t_s_ = 0.0;
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 };

@@ -1,5 +1,6 @@
 #include "pipeline/state_sink.hpp"
 
+#include <cmath>
 #include <limits>
 
 #include "dds/dds_participant.hpp"
@@ -39,10 +40,13 @@ void StateSink::batch_done(const core::Estimator& estimator, const core::SampleS
 
 void StateSink::finish(const core::Estimator& estimator, const core::SampleSource& /*source*/) { save(estimator); }
 
-void restore_state(core::Estimator& estimator, const std::string& path) {
+void restore_state(core::Estimator& estimator, const std::string& path, bool with_heading) {
   try {
-    estimator.restore(app::load_state(path));
-    app::log(app::LogPriority::Info, "state", "bias restored from " + path);
+    const app::SavedState saved = app::load_state(path);
+    estimator.restore(saved, with_heading);
+    app::log(app::LogPriority::Info, "state",
+             std::string("bias ") + (with_heading && std::isfinite(saved.heading_deg) ? "and heading " : "") +
+                 "restored from " + path);
   } catch (const app::StateError& error) {
     app::log(app::LogPriority::Notice, "state", error.what());
   }

@@ -25,6 +25,6 @@ class StateSink final : public BatchSink {
 };
 
 // Restores the estimator from the state file; logs (notice) why not when it cannot.
-void restore_state(core::Estimator& estimator, const std::string& path);
+void restore_state(core::Estimator& estimator, const std::string& path, bool with_heading = true);
 
 }  // namespace headingd::pipeline

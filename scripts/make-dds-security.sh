@@ -67,8 +67,8 @@ XML
   echo '<?xml version="1.0" encoding="UTF-8"?>'
   echo '<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">'
   echo '  <permissions>'
-  grant headingd '<topic>headingd/orientation</topic><topic>headingd/bias</topic><topic>headingd/status</topic><topic>rt/*</topic>' \
-    '<topic>headingd/command</topic>'
+  grant headingd '<topic>headingd/orientation</topic><topic>headingd/bias</topic><topic>headingd/status</topic><topic>rt/*</topic><topic>ros_discovery_info</topic>' \
+    '<topic>headingd/command</topic><topic>rt/*</topic>'
   grant navigation '<topic>headingd/command</topic>' '<topic>*</topic>'
   grant observer '<topic>none</topic>' '<topic>*</topic>'
   echo '  </permissions>'

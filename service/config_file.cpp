@@ -255,6 +255,42 @@ void read_security(const TableReader& r, DdsSecurity& s) {
       "enabled, identity_ca, certificate, private_key, permissions_ca, governance, permissions");
 }
 
+// ROS 2's name rules: tokens of letters, digits and underscores, not starting with a digit,
+// separated by single slashes; no trailing slash. `absolute_only` for namespaces.
+bool ros_name_ok(const std::string& name, bool absolute_only, bool allow_slash) {
+  if (absolute_only && name == "/") return true;
+  if (name.empty() || (absolute_only && name.front() != '/') || name.back() == '/') return false;
+  if (!allow_slash && name.find('/') != std::string::npos) return false;
+  bool token_start = true;
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const char c = name[i];
+    if (c == '/') {
+      if (i > 0 && name[i - 1] == '/') return false;
+      token_start = true;
+      continue;
+    }
+    const bool letter = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+    const bool digit = c >= '0' && c <= '9';
+    if (!letter && !(digit && !token_start)) return false;
+    token_start = false;
+  }
+  return true;
+}
+
+std::string ros_name(const TableReader& r, const toml::node& node, const std::string& key, bool absolute_only,
+                     bool allow_slash, bool allow_empty) {
+  const std::string value = text_of(r.file(), node, key);
+  if (allow_empty && value.empty()) return value;
+  if (!ros_name_ok(value, absolute_only, allow_slash))
+    fail(r.file(), node, key,
+         "is " + shown(node) + ": not a valid ROS 2 name (letters, digits, '_' and " +
+             (absolute_only ? "'/', starting with '/'"
+              : allow_slash ? "'/' between tokens"
+                            : "no '/'") +
+             "; a token must not start with a digit)");
+  return value;
+}
+
 void read_dds(const TableReader& r, DdsSettings& d) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
@@ -271,7 +307,7 @@ void read_dds(const TableReader& r, DdsSettings& d) {
         else if (name == "publish_imu")
           d.publish_imu = r.boolean(node, key);
         else if (name == "imu_topic")
-          d.imu_topic = text_of(r.file(), node, key);
+          d.imu_topic = ros_name(r, node, key, false, true, false);
         else if (name == "frame_id")
           d.frame_id = text_of(r.file(), node, key);
         else if (name == "orientation_rate_hz")
@@ -353,11 +389,98 @@ void read_state(const TableReader& r, Config& c) {
           c.state_path = text_of(r.file(), node, key);
         else if (name == "save_interval_s")
           c.state_save_interval_s = r.number(node, key, 1.0, 86400.0, false);
+        else if (name == "restore_heading")
+          c.state_restore_heading = r.boolean(node, key);
         else
           return false;
         return true;
       },
-      "path, save_interval_s");
+      "path, save_interval_s, restore_heading");
+}
+
+void read_stop_hint(const TableReader& r, StopHintSettings& h) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "topic")
+          h.topic = ros_name(r, node, key, false, true, true);
+        else if (name == "type") {
+          const std::string value = text_of(r.file(), node, key);
+          if (value == "odometry")
+            h.type = StopHintType::Odometry;
+          else if (value == "twist")
+            h.type = StopHintType::Twist;
+          else if (value == "twist_stamped")
+            h.type = StopHintType::TwistStamped;
+          else
+            fail(r.file(), node, key, "is " + shown(node) + ", allowed \"odometry\", \"twist\" or \"twist_stamped\"");
+        } else if (name == "linear_stopped_m_s")
+          h.linear_stopped_m_s = r.number(node, key, 0.0, 10.0, true);
+        else if (name == "angular_stopped_rad_s")
+          h.angular_stopped_rad_s = r.number(node, key, 0.0, 10.0, true);
+        else if (name == "hold_s")
+          h.hold_s = r.number(node, key, 0.0, 60.0, false);
+        else if (name == "stale_s")
+          h.stale_s = r.number(node, key, 0.0, 60.0, true);
+        else
+          return false;
+        return true;
+      },
+      "topic, type, linear_stopped_m_s, angular_stopped_rad_s, hold_s, stale_s");
+}
+
+void read_ros(const TableReader& r, RosSettings& s) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "stop_hint") {
+          read_stop_hint(TableReader(r.file(), as_table(r.file(), node, key), key + "."), s.stop_hint);
+          return true;
+        }
+        if (name == "node_name")
+          s.node_name = ros_name(r, node, key, false, false, false);
+        else if (name == "namespace")
+          s.node_namespace = ros_name(r, node, key, true, true, false);
+        else if (name == "distro") {
+          const std::string value = text_of(r.file(), node, key);
+          if (value == "humble")
+            s.distro = RosDistro::Humble;
+          else if (value == "jazzy" || value == "iron" || value == "kilted" || value == "rolling")
+            s.distro = RosDistro::Jazzy;
+          else
+            fail(r.file(), node, key,
+                 "is " + shown(node) + ", allowed \"humble\", or \"iron\", \"jazzy\", \"kilted\", \"rolling\"");
+        } else if (name == "discovery_info")
+          s.discovery_info = r.boolean(node, key);
+        else if (name == "imu_orientation") {
+          const std::string value = text_of(r.file(), node, key);
+          if (value == "yaw_only")
+            s.imu_orientation = ImuOrientation::YawOnly;
+          else if (value == "attitude")
+            s.imu_orientation = ImuOrientation::Attitude;
+          else
+            fail(r.file(), node, key, "is " + shown(node) + ", allowed \"yaw_only\" or \"attitude\"");
+        } else if (name == "orientation_stddev_rad")
+          s.orientation_stddev_rad = r.number(node, key, 0.0, 10.0, true);
+        else if (name == "angular_velocity_stddev_rad_s")
+          s.angular_velocity_stddev_rad_s = r.number(node, key, 0.0, 10.0, true);
+        else if (name == "diagnostics")
+          s.diagnostics = r.boolean(node, key);
+        else if (name == "temperature_topic")
+          s.temperature_topic = ros_name(r, node, key, false, true, true);
+        else if (name == "heading_sigma_warn_deg")
+          s.heading_sigma_warn_deg = r.number(node, key, 0.0, 360.0, true);
+        else if (name == "heading_sigma_error_deg")
+          s.heading_sigma_error_deg = r.number(node, key, 0.0, 360.0, true);
+        else if (name == "still_age_warn_s")
+          s.still_age_warn_s = r.number(node, key, 0.0, 1e7, true);
+        else if (name == "hardware_id")
+          s.hardware_id = text_of(r.file(), node, key);
+        else
+          return false;
+        return true;
+      },
+      "node_name, namespace, distro, discovery_info, imu_orientation, orientation_stddev_rad, "
+      "angular_velocity_stddev_rad_s, diagnostics, temperature_topic, heading_sigma_warn_deg, heading_sigma_error_deg, "
+      "still_age_warn_s, hardware_id, [ros.stop_hint]");
 }
 
 Config interpret(const toml::table& root, const std::string& file) {
@@ -385,8 +508,10 @@ Config interpret(const toml::table& root, const std::string& file) {
           "level");
     } else if (key == "state") {
       read_state(TableReader(file, as_table(file, node, key), "state."), config);
+    } else if (key == "ros") {
+      read_ros(TableReader(file, as_table(file, node, key), "ros."), config.dds.ros);
     } else {
-      fail(file, node, key, "is not a known section (known: [sensor], [estimator], [dds], [state], [log])");
+      fail(file, node, key, "is not a known section (known: [sensor], [estimator], [dds], [ros], [state], [log])");
     }
   }
   const auto& sec = config.dds.security;

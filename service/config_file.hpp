@@ -22,6 +22,7 @@ struct Config {
   SensorOptions sensor;
   std::optional<std::string> state_path;  // persisted bias and temperature model
   double state_save_interval_s = 60.0;
+  bool state_restore_heading = true;  // the heading goes on from the saved one after a restart
   std::string log_level = "info";
 };
 

@@ -180,6 +180,14 @@ void L3gd20hSimulator::pace() {
 }
 
 void L3gd20hSimulator::check_faults() {
+  if (nack_at_ns_ >= 0 && clock_ns_ >= nack_at_ns_) {
+    nack_ = nack_at_count_;
+    nack_at_ns_ = -1;
+  }
+  if (stuck_at_ns_ >= 0 && clock_ns_ >= stuck_at_ns_) {
+    inject_stuck(stuck_at_duration_ns_);
+    stuck_at_ns_ = -1;
+  }
   if (dead_after_ns_ >= 0 && clock_ns_ >= dead_after_ns_) {
     advance_to(clock_ns_ + kTransactionOverheadNs);
     throw I2cError(I2cError::Kind::NoAck, EREMOTEIO, "simulated bus: Remote I/O error (sensor dead)");

@@ -57,6 +57,15 @@ class L3gd20hSimulator final : public I2cBus, public DataReady {
   void inject_stall(std::int64_t duration_ns) { stall_ns_ = duration_ns; }  // the host is late once
   // From simulated time t_ns on, the chip stops answering for good (a dead sensor).
   void inject_dead_after(std::int64_t t_ns) { dead_after_ns_ = t_ns; }
+  // At simulated time t_ns: `transactions` NACKs in a row; the output stuck for duration_ns.
+  void inject_nack_at(std::int64_t t_ns, int transactions) {
+    nack_at_ns_ = t_ns;
+    nack_at_count_ = transactions;
+  }
+  void inject_stuck_at(std::int64_t t_ns, std::int64_t duration_ns) {
+    stuck_at_ns_ = t_ns;
+    stuck_at_duration_ns_ = duration_ns;
+  }
   // Waits and sleeps also take real time, so a process using the simulator runs at the chip's pace.
   void set_realtime(bool realtime) { realtime_ = realtime; }
 
@@ -116,6 +125,8 @@ class L3gd20hSimulator final : public I2cBus, public DataReady {
   int nack_ = 0;
   int timeout_ = 0;
   std::int64_t stuck_until_ns_ = -1;
+  std::int64_t nack_at_ns_ = -1, stuck_at_ns_ = -1, stuck_at_duration_ns_ = 0;
+  int nack_at_count_ = 0;
   RawSample stuck_value_{};
   std::int64_t stall_ns_ = 0;
   bool i2c_disabled_ = false;

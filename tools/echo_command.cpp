@@ -20,7 +20,7 @@
 #include "dds/dds_participant.hpp"
 #include "dds/message_format.hpp"
 #include "headingdPubSubTypes.h"
-#include "sensor_msgs_ImuPubSubTypes.h"
+#include "ros2_msgsPubSubTypes.h"
 #include "service/config_file.hpp"
 #include "service/exit_codes.hpp"
 #include "service/signals.hpp"
@@ -108,7 +108,7 @@ int run_echo(const EchoOptions& options) {
             listeners.back().get(), false, options.reliable);
       } else if (t == "imu") {
         listeners.push_back(std::make_unique<Printer<sensor_msgs::msg::dds_::Imu_>>(options.json));
-        add("rt/" + settings.imu_topic, TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType()),
+        add(ros_topic(settings.ros, settings.imu_topic), TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType()),
             listeners.back().get(), false, options.reliable);
       } else if (t == "bias") {
         listeners.push_back(std::make_unique<Printer<headingd::msg::GyroBias>>(options.json));

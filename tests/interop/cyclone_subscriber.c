@@ -8,7 +8,7 @@
 
 #include "dds/dds.h"
 #include "headingd.h"
-#include "sensor_msgs_Imu.h"
+#include "ros2_msgs.h"
 
 static double now_s(void) {
   struct timespec ts;

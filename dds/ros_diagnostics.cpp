@@ -1,0 +1,131 @@
+#include "dds/ros_diagnostics.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/method.hpp"
+#include "dds/stop_hint.hpp"
+
+namespace headingd::app {
+namespace {
+
+std::string number(double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
+std::string vector(const core::Vec3& v) { return number(v.x()) + " " + number(v.y()) + " " + number(v.z()); }
+
+const char* state_name(SensorState state) {
+  switch (state) {
+    case SensorState::Starting:
+      return "starting";
+    case SensorState::Ok:
+      return "ok";
+    case SensorState::Degraded:
+      return "degraded";
+    case SensorState::Failed:
+      return "failed";
+    case SensorState::Replay:
+      return "replay";
+  }
+  return "unknown";
+}
+
+// The worse of the two wins; the message of the first at that level stays.
+void raise(DiagnosticEntry& entry, DiagnosticLevel level, const std::string& message) {
+  if (static_cast<int>(level) > static_cast<int>(entry.level)) {
+    entry.level = level;
+    entry.message = message;
+  }
+}
+
+}  // namespace
+
+std::vector<DiagnosticEntry> DiagnosticsBuilder::build(const core::Estimate& e, const core::Diagnostics& d,
+                                                       const StatusReport& report, const InboundCounts& inbound) {
+  return {sensor(e, report), estimator(e, d, inbound)};
+}
+
+DiagnosticEntry DiagnosticsBuilder::sensor(const core::Estimate& e, const StatusReport& r) {
+  DiagnosticEntry entry;
+  entry.name = ros_.node_name + ": sensor";
+  entry.hardware_id = ros_.hardware_id;
+  entry.message = r.state == SensorState::Replay ? "replaying a recording" : state_name(r.state);
+  const std::uint64_t faults = r.bus_errors + r.fifo_overruns + r.samples_dropped + r.recoveries;
+  if (faults > faults_seen_) last_fault_t_s_ = e.t_s;
+  const std::uint64_t new_faults = faults - std::min(faults, faults_seen_);
+  faults_seen_ = faults;
+  if (r.state == SensorState::Failed) raise(entry, DiagnosticLevel::Error, "sensor failed");
+  const double rate = r.sample_rate_hz > 0 ? r.sample_rate_hz : r.nominal_rate_hz;
+  if (rate > 0 && static_cast<double>(r.stuck_samples) >= kStuckS * rate)
+    raise(entry, DiagnosticLevel::Error,
+          "output stuck: " + std::to_string(r.stuck_samples) + " identical samples in a row");
+  if (r.state == SensorState::Degraded) raise(entry, DiagnosticLevel::Warn, "recovering from a sensor fault");
+  if (e.t_s - last_fault_t_s_ <= kRecentS)
+    raise(entry, DiagnosticLevel::Warn,
+          "bus errors, FIFO overruns or lost samples in the last 10 s" +
+              (new_faults > 0 ? " (+" + std::to_string(new_faults) + " now)" : std::string()));
+  if (r.nominal_rate_hz > 0 && r.sample_rate_hz > 0 &&
+      std::abs(r.sample_rate_hz / r.nominal_rate_hz - 1.0) > kRateTolerance)
+    raise(entry, DiagnosticLevel::Warn,
+          "output rate " + number(r.sample_rate_hz) + " Hz, nominal " + number(r.nominal_rate_hz) + " Hz");
+  entry.values = {{"state", state_name(r.state)},
+                  {"rate_hz", number(r.sample_rate_hz)},
+                  {"nominal_rate_hz", number(r.nominal_rate_hz)},
+                  {"samples", std::to_string(r.samples_received)},
+                  {"samples_dropped", std::to_string(r.samples_dropped)},
+                  {"bus_errors", std::to_string(r.bus_errors)},
+                  {"fifo_overruns", std::to_string(r.fifo_overruns)},
+                  {"recoveries", std::to_string(r.recoveries)},
+                  {"stuck_samples", std::to_string(r.stuck_samples)},
+                  {"temperature_c", number(e.temp_c)},
+                  {"uptime_s", number(r.uptime_s)}};
+  return entry;
+}
+
+DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const core::Diagnostics& d,
+                                              const InboundCounts& inbound) {
+  DiagnosticEntry entry;
+  entry.name = ros_.node_name + ": estimator";
+  entry.hardware_id = ros_.hardware_id;
+  entry.message = "tracking the bias";
+  const double sigma = e.heading_sigma_deg;
+  const bool has_sigma = d.method == core::Method::Auto;
+  if (d.in_startup) raise(entry, DiagnosticLevel::Warn, "start-up: measuring the bias, keep the platform still");
+  if (has_sigma && !std::isfinite(sigma)) raise(entry, DiagnosticLevel::Error, "heading sigma is not finite");
+  if (has_sigma && sigma > ros_.heading_sigma_error_deg)
+    raise(entry, DiagnosticLevel::Error, "heading sigma " + number(sigma) + " deg: set the heading");
+  if (has_sigma && sigma > ros_.heading_sigma_warn_deg)
+    raise(entry, DiagnosticLevel::Warn, "heading sigma " + number(sigma) + " deg");
+  const double still_age_s = std::isfinite(d.last_still_t_s) ? e.t_s - d.last_still_t_s : NAN;
+  if (!d.in_startup && has_sigma && still_age_s > ros_.still_age_warn_s)
+    raise(entry, DiagnosticLevel::Warn, "no still segment for " + number(still_age_s) + " s");
+  if (d.hint_conflicts > conflicts_seen_) last_conflict_t_s_ = e.t_s;
+  conflicts_seen_ = d.hint_conflicts;
+  if (e.t_s - last_conflict_t_s_ <= kRecentS)
+    raise(entry, DiagnosticLevel::Warn, "the vehicle says stopped but the gyro turns: the gyro wins");
+  std::string model;
+  for (std::size_t a = 0; a < 3; ++a) model += std::string(a ? " " : "") + (d.temperature[a].ready ? "on" : "off");
+  entry.values = {{"method", std::string(core::method_name(d.method))},
+                  {"heading_deg", number(e.heading_deg)},
+                  {"heading_sigma_deg", number(sigma)},
+                  {"heading_fixes", std::to_string(d.heading_fixes)},
+                  {"heading_fix_offset_deg", number(d.heading_fix_offset_deg)},
+                  {"bias_dps", vector(e.bias_dps)},
+                  {"bias_sigma_dps", vector(e.bias_sigma_dps)},
+                  {"last_still_age_s", number(still_age_s)},
+                  {"accepted_segments", std::to_string(d.accepted_segments)},
+                  {"rejected_segments", std::to_string(d.rejected_segments)},
+                  {"temperature_model", model},
+                  {"motion_hint", hint_name(d.motion_hint)},
+                  {"hint_conflicts", std::to_string(d.hint_conflicts)},
+                  {"motion_messages_accepted", std::to_string(inbound.motion_accepted)},
+                  {"motion_messages_refused", std::to_string(inbound.motion_refused)},
+                  {"commands_accepted", std::to_string(inbound.commands_accepted)},
+                  {"commands_rejected", std::to_string(inbound.commands_rejected)}};
+  return entry;
+}
+
+}  // namespace headingd::app

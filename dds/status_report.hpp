@@ -1,0 +1,20 @@
+#pragma once
+// How the sensor and the run are doing, as the pipeline sees them: for Status and /diagnostics.
+#include <cstdint>
+
+namespace headingd::app {
+
+// SensorState in the IDL, in its order.
+enum class SensorState : int { Starting = 0, Ok = 1, Degraded = 2, Failed = 3, Replay = 4 };
+
+struct StatusReport {
+  SensorState state = SensorState::Starting;
+  double sample_rate_hz = 0.0;   // measured
+  double nominal_rate_hz = 0.0;  // what the sensor is set up for; 0 for a recording
+  std::uint64_t samples_received = 0, samples_dropped = 0, bus_errors = 0, fifo_overruns = 0, recoveries = 0;
+  std::uint64_t stuck_samples = 0;  // the current run of samples identical on all three axes
+  double uptime_s = 0.0;
+  std::uint32_t other_publishers = 0;
+};
+
+}  // namespace headingd::app
