@@ -35,6 +35,8 @@ SensorOptions merged_sensor(const SensorOptions& file, const RunOptions& options
   s.sim_rate_error = cli.sim_rate_error;
   s.sim_realtime = cli.sim_realtime;
   s.sim_dead_after_s = cli.sim_dead_after_s;
+  s.sim_nack_at_s = cli.sim_nack_at_s;
+  s.sim_stuck_at_s = cli.sim_stuck_at_s;
   return s;
 }
 
