@@ -165,10 +165,16 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
     // Late subscribers still get the latest GyroBias and Status (transient-local) meanwhile.
     linger(options.linger_s);
     if (!options.quiet) {
-      std::fprintf(stderr, "headingd %s: published %llu orientation messages; commands %llu accepted, %llu refused\n",
+      const InboundCounts inbound = node->inbound();
+      std::fprintf(stderr, "headingd %s: published %llu orientation messages; commands %llu accepted, %llu refused",
                    options.command.c_str(), static_cast<unsigned long long>(node->orientation_sent()),
-                   static_cast<unsigned long long>(node->commands_accepted()),
-                   static_cast<unsigned long long>(node->commands_rejected()));
+                   static_cast<unsigned long long>(inbound.commands_accepted),
+                   static_cast<unsigned long long>(inbound.commands_rejected));
+      if (!options.dds.ros.stop_hint.topic.empty())
+        std::fprintf(stderr, "; vehicle motion messages %llu accepted, %llu refused",
+                     static_cast<unsigned long long>(inbound.motion_accepted),
+                     static_cast<unsigned long long>(inbound.motion_refused));
+      std::fprintf(stderr, "\n");
     }
     node.reset();  // deletes the participant: no shared-memory files left behind
   }

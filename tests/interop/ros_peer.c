@@ -224,6 +224,13 @@ static int odom(dds_domainid_t domain, const char* topic_name, const char* mode,
   const dds_entity_t writer = dds_create_writer(participant, topic, qos, NULL);
   dds_delete_qos(qos);
   if (topic < 0 || writer < 0) return 1;
+  /* An Orientation reader too, so that headingd's --wait-subscribers waits for us. */
+  const dds_entity_t orientation_topic =
+      dds_create_topic(participant, &headingd_msg_Orientation_desc, "headingd/orientation", NULL, NULL);
+  dds_qos_t* best_effort = dds_create_qos();
+  dds_qset_reliability(best_effort, DDS_RELIABILITY_BEST_EFFORT, 0);
+  if (dds_create_reader(participant, orientation_topic, best_effort, NULL) < 0) return 1;
+  dds_delete_qos(best_effort);
   long sent = 0;
   const double deadline = mono_s() + seconds;
   while (mono_s() < deadline) {
