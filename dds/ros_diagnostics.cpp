@@ -33,6 +33,12 @@ const char* state_name(SensorState state) {
   return "unknown";
 }
 
+// The node's name with its namespace, as diagnostic_updater prefixes its tasks: /diagnostics
+// is one topic for the whole fleet.
+std::string qualified_node(const RosSettings& ros) {
+  return ros.node_namespace == "/" ? ros.node_name : ros.node_namespace.substr(1) + "/" + ros.node_name;
+}
+
 // The worse of the two wins; the message of the first at that level stays.
 void raise(DiagnosticEntry& entry, DiagnosticLevel level, const std::string& message) {
   if (static_cast<int>(level) > static_cast<int>(entry.level)) {
@@ -50,7 +56,7 @@ std::vector<DiagnosticEntry> DiagnosticsBuilder::build(const core::Estimate& e, 
 
 DiagnosticEntry DiagnosticsBuilder::sensor(const core::Estimate& e, const StatusReport& r) {
   DiagnosticEntry entry;
-  entry.name = ros_.node_name + ": sensor";
+  entry.name = qualified_node(ros_) + ": sensor";
   entry.hardware_id = ros_.hardware_id;
   entry.message = r.state == SensorState::Replay ? "replaying a recording" : state_name(r.state);
   const std::uint64_t faults = r.bus_errors + r.fifo_overruns + r.samples_dropped + r.recoveries;
@@ -88,7 +94,7 @@ DiagnosticEntry DiagnosticsBuilder::sensor(const core::Estimate& e, const Status
 DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const core::Diagnostics& d,
                                               const InboundCounts& inbound) {
   DiagnosticEntry entry;
-  entry.name = ros_.node_name + ": estimator";
+  entry.name = qualified_node(ros_) + ": estimator";
   entry.hardware_id = ros_.hardware_id;
   entry.message = "tracking the bias";
   const double sigma = e.heading_sigma_deg;
