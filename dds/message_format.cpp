@@ -64,6 +64,8 @@ std::string line_for(const headingd::msg::Orientation& m, bool json) {
       .numbers("q", {m.qw(), m.qx(), m.qy(), m.qz()})
       .numbers("rate_rad_s", {m.rate_x_rad_s(), m.rate_y_rad_s(), m.rate_z_rad_s()}, 6)
       .flag("still", m.still())
+      .count("heading_fixes", m.heading_fixes())
+      .fixed("yaw_offset_rad", m.yaw_offset_rad(), 9)
       .str();
 }
 
@@ -93,6 +95,8 @@ std::string line_for(const headingd::msg::Status& m, bool json) {
       .count("commands_rejected", m.commands_rejected())
       .fixed("uptime_s", m.uptime_s(), 3)
       .count("other_publishers", m.other_publishers())
+      .count("motion_accepted", m.motion_messages_accepted())
+      .count("motion_refused", m.motion_messages_refused())
       .text("version", m.version().c_str())
       .str();
 }

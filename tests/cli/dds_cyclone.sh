@@ -11,7 +11,7 @@ printf '[dds]\ndomain_id = 44\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n
 export CYCLONEDDS_URI="file://$root/tests/interop/cyclone.xml"
 "$headingd" replay "$root/tests/data/agv-1min/imu.csv" --speed 4 --wait-subscribers 20 -c "$dir/cfg.toml" -o /dev/null -q &
 replay=$!
-"$subscriber" 44 headingd/orientation rt/imu 50 30 >"$dir/sub.out" 2>&1
+"$subscriber" 44 headingd/orientation rt/imu/data 50 30 >"$dir/sub.out" 2>&1
 rc=$?
 cat "$dir/sub.out"
 [ "$rc" -eq 0 ] || { echo "FAIL: the Cyclone subscriber did not get 50 of each"; exit 1; }

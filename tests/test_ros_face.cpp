@@ -1,0 +1,306 @@
+// headingd's ROS 2 face without DDS: the Imu's fields per REP-145, the stop-hint tracker, the
+// diagnostics levels, the [ros] settings, the heading across a restart, and the gyro winning
+// over a wrong "stopped" hint.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "core/estimator.hpp"
+#include "core/units.hpp"
+#include "dds/imu_message.hpp"
+#include "dds/ros_diagnostics.hpp"
+#include "dds/stop_hint.hpp"
+#include "io/state_file.hpp"
+#include "service/config_file.hpp"
+
+using namespace headingd;
+using app::ImuOrientation;
+using app::RateWindow;
+using app::RosSettings;
+using core::Vec3;
+
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+core::Estimate running_estimate() {
+  core::Estimate e;
+  e.t_s = 100.0;
+  e.heading_deg = 120.0;
+  e.heading_sigma_deg = 0.5;
+  e.bias_dps = Vec3(0.1, 0.2, 0.3);
+  e.bias_sigma_dps = Vec3(0.01, 0.01, 0.002);
+  e.in_startup = false;
+  return e;
+}
+
+core::Diagnostics running_diagnostics() {
+  core::Diagnostics d;
+  d.in_startup = false;
+  d.sigma_still_dps = Vec3(1.2, 1.1, 0.13);
+  d.heading_fixes = 1;
+  d.heading_fix_offset_deg = 30.0;
+  d.last_still_t_s = 90.0;
+  return d;
+}
+
+}  // namespace
+
+TEST(ImuFields, StartUpRateIsNotProvidedAndAccelerationNever) {
+  core::Estimate e = running_estimate();
+  e.in_startup = true;
+  RateWindow window;
+  window.add(Vec3(1, 2, 3));
+  const auto f = app::imu_fields(e, running_diagnostics(), window, RosSettings{});
+  EXPECT_EQ(f.angular_velocity_covariance[0], -1.0);
+  EXPECT_EQ(f.linear_acceleration_covariance[0], -1.0);
+  const auto g = app::imu_fields(running_estimate(), running_diagnostics(), window, RosSettings{});
+  EXPECT_GT(g.angular_velocity_covariance[0], 0.0);
+  EXPECT_EQ(g.linear_acceleration_covariance[0], -1.0);
+}
+
+TEST(ImuFields, YawOnlyIsTheContinuousYawWithItsSigma) {
+  RateWindow window;
+  window.add(Vec3::Zero());
+  const auto f = app::imu_fields(running_estimate(), running_diagnostics(), window, RosSettings{});
+  const double yaw = 2.0 * std::atan2(f.orientation_xyzw[2], f.orientation_xyzw[3]);
+  EXPECT_NEAR(yaw, core::deg_to_rad(120.0 - 30.0), 1e-12);
+  EXPECT_EQ(f.orientation_xyzw[0], 0.0);
+  EXPECT_EQ(f.orientation_xyzw[1], 0.0);
+  EXPECT_NEAR(f.orientation_covariance[8], std::pow(core::deg_to_rad(0.5), 2), 1e-15);
+  EXPECT_NEAR(f.orientation_covariance[0], M_PI * M_PI, 1e-12);
+  EXPECT_NEAR(f.orientation_covariance[4], M_PI * M_PI, 1e-12);
+}
+
+TEST(ImuFields, NoZeroVarianceThatReadsAsExact) {
+  core::Estimate e = running_estimate();
+  e.heading_sigma_deg = 0.0;  // held during start-up
+  RateWindow window;
+  window.add(Vec3::Zero());
+  const auto f = app::imu_fields(e, running_diagnostics(), window, RosSettings{});
+  EXPECT_GT(f.orientation_covariance[8], 0.0);
+}
+
+TEST(ImuFields, RateIsTheMeanAndItsVarianceTheMeansNoisePlusTheBias) {
+  RateWindow window;
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Vec3 sum = Vec3::Zero();
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 r(n(rng), n(rng), n(rng));
+    sum += r;
+    window.add(r);
+  }
+  const auto f = app::imu_fields(running_estimate(), running_diagnostics(), window, RosSettings{});
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(f.angular_velocity_rad_s[static_cast<std::size_t>(a)], sum[a] / 8.0 * core::kRadPerDeg, 1e-15);
+  const double sample = 0.13 * core::kRadPerDeg, bias = 0.002 * core::kRadPerDeg;
+  EXPECT_NEAR(f.angular_velocity_covariance[8], sample * sample / 8.0 + bias * bias, 1e-18);
+  EXPECT_EQ(f.angular_velocity_covariance[1], 0.0);
+}
+
+TEST(ImuFields, PaperMethodsSayCovarianceUnknownAndOverridesWin) {
+  core::Estimate e = running_estimate();
+  e.heading_sigma_deg = kNan;
+  e.bias_sigma_dps = Vec3::Constant(kNan);
+  RateWindow window;
+  window.add(Vec3::Zero());
+  auto f = app::imu_fields(e, running_diagnostics(), window, RosSettings{});
+  for (double v : f.orientation_covariance) EXPECT_EQ(v, 0.0);
+  for (double v : f.angular_velocity_covariance) EXPECT_EQ(v, 0.0);
+  RosSettings ros;
+  ros.orientation_stddev_rad = 0.1;
+  ros.angular_velocity_stddev_rad_s = 0.01;
+  ros.imu_orientation = ImuOrientation::Attitude;
+  f = app::imu_fields(e, running_diagnostics(), window, ros);
+  EXPECT_NEAR(f.orientation_covariance[8], 0.01, 1e-15);
+  EXPECT_NEAR(f.angular_velocity_covariance[4], 1e-4, 1e-18);
+  EXPECT_EQ(f.orientation_xyzw[3], 1.0);  // the attitude (identity here)
+}
+
+TEST(StopHint, StoppedAfterHoldMovingAtOnceStaleIsNothing) {
+  app::StopHintSettings s;
+  s.hold_s = 0.5;
+  s.stale_s = 0.5;
+  app::StopHintTracker tracker(s, app::CommandLimits{});
+  std::string why;
+  app::MotionReport still;
+  still.stamp_s = 1000.0;
+  ASSERT_TRUE(tracker.offer(still, 1000.0, why));
+  EXPECT_EQ(tracker.hint(1000.2), core::MotionHint::None) << "not yet held";
+  still.stamp_s = 1000.4;
+  ASSERT_TRUE(tracker.offer(still, 1000.4, why));
+  EXPECT_EQ(tracker.hint(1000.6), core::MotionHint::Stopped);
+  EXPECT_EQ(tracker.hint(1001.0), core::MotionHint::None) << "stale";
+  app::MotionReport moving;
+  moving.stamp_s = 1001.0;
+  moving.linear_m_s = Vec3(0.5, 0, 0);
+  ASSERT_TRUE(tracker.offer(moving, 1001.0, why));
+  EXPECT_EQ(tracker.hint(1001.0), core::MotionHint::Moving);
+  app::MotionReport turning;  // a vehicle turning on the spot is not stopped
+  turning.angular_rad_s = Vec3(0, 0, 0.3);
+  ASSERT_TRUE(tracker.offer(turning, 1001.1, why));
+  EXPECT_EQ(tracker.hint(1001.1), core::MotionHint::Moving);
+  EXPECT_EQ(tracker.accepted(), 4u);
+}
+
+TEST(StopHint, NanStaleAndFutureAreRefusedAndChangeNothing) {
+  app::StopHintTracker tracker(app::StopHintSettings{}, app::CommandLimits{});
+  std::string why;
+  app::MotionReport bad;
+  bad.stamp_s = 1000.0;
+  bad.linear_m_s = Vec3(kNan, 0, 0);
+  EXPECT_FALSE(tracker.offer(bad, 1000.0, why));
+  EXPECT_NE(why.find("finite"), std::string::npos);
+  bad.linear_m_s = Vec3::Zero();
+  bad.stamp_s = 900.0;
+  EXPECT_FALSE(tracker.offer(bad, 1000.0, why));
+  EXPECT_NE(why.find("stale"), std::string::npos);
+  bad.stamp_s = 1100.0;
+  EXPECT_FALSE(tracker.offer(bad, 1000.0, why));
+  EXPECT_NE(why.find("future"), std::string::npos);
+  bad.stamp_s = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(tracker.offer(bad, 1000.0, why));
+  EXPECT_EQ(tracker.refused(), 4u);
+  EXPECT_EQ(tracker.accepted(), 0u);
+  EXPECT_EQ(tracker.hint(1000.0), core::MotionHint::None);
+}
+
+TEST(RosDiagnostics, LevelsFollowFaultsAndSigma) {
+  RosSettings ros;
+  ros.hardware_id = "L3GD20H 0x6b on /dev/i2c-1";
+  app::DiagnosticsBuilder builder(ros);
+  app::StatusReport report;
+  report.state = app::SensorState::Ok;
+  report.sample_rate_hz = 378.8;
+  report.nominal_rate_hz = 400.0;
+  core::Estimate e = running_estimate();
+  auto entries = builder.build(e, running_diagnostics(), report, {});
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_EQ(entries[0].name, "headingd: sensor");
+  EXPECT_EQ(entries[0].hardware_id, ros.hardware_id);
+  EXPECT_EQ(entries[0].level, app::DiagnosticLevel::Ok);
+  EXPECT_EQ(entries[1].level, app::DiagnosticLevel::Ok);
+  report.bus_errors = 3;
+  e.t_s = 101.0;
+  entries = builder.build(e, running_diagnostics(), report, {});
+  EXPECT_EQ(entries[0].level, app::DiagnosticLevel::Warn);
+  e.t_s = 112.0;  // 11 s later, nothing new: OK again
+  entries = builder.build(e, running_diagnostics(), report, {});
+  EXPECT_EQ(entries[0].level, app::DiagnosticLevel::Ok);
+  report.stuck_samples = 400;
+  entries = builder.build(e, running_diagnostics(), report, {});
+  EXPECT_EQ(entries[0].level, app::DiagnosticLevel::Error);
+  e.heading_sigma_deg = 40.0;
+  entries = builder.build(e, running_diagnostics(), report, {});
+  EXPECT_EQ(entries[1].level, app::DiagnosticLevel::Error);
+  e.heading_sigma_deg = 6.0;
+  entries = builder.build(e, running_diagnostics(), report, {});
+  EXPECT_EQ(entries[1].level, app::DiagnosticLevel::Warn);
+  report.sample_rate_hz = 300.0;
+  report.stuck_samples = 0;
+  entries = builder.build(e, running_diagnostics(), report, {});
+  EXPECT_EQ(entries[0].level, app::DiagnosticLevel::Warn) << "rate 25 % off nominal";
+}
+
+TEST(RosConfig, ReadsTheRosTablesAndRefusesBadNames) {
+  const auto config = app::parse_config(R"(
+[dds]
+imu_topic = "/imu/data"
+[ros]
+node_name = "gyro"
+namespace = "/robot_1/front"
+distro = "humble"
+imu_orientation = "attitude"
+angular_velocity_stddev_rad_s = 0.002
+[ros.stop_hint]
+topic = "wheel/odom"
+type = "twist_stamped"
+hold_s = 1.5
+)",
+                                        "t.toml");
+  const RosSettings& ros = config.dds.ros;
+  EXPECT_EQ(ros.node_name, "gyro");
+  EXPECT_EQ(ros.distro, app::RosDistro::Humble);
+  EXPECT_EQ(ros.imu_orientation, ImuOrientation::Attitude);
+  EXPECT_EQ(ros.stop_hint.type, app::StopHintType::TwistStamped);
+  EXPECT_DOUBLE_EQ(ros.stop_hint.hold_s, 1.5);
+  EXPECT_EQ(app::ros_topic(ros, config.dds.imu_topic), "rt/imu/data");
+  EXPECT_EQ(app::ros_topic(ros, ros.stop_hint.topic), "rt/robot_1/front/wheel/odom");
+  for (const char* bad :
+       {"[ros]\nnode_name = \"a/b\"", "[ros]\nnamespace = \"robot\"", "[ros]\nnamespace = \"/a//b\"",
+        "[ros.stop_hint]\ntopic = \"1odom\"", "[ros.stop_hint]\ntopic = \"odom/\"", "[ros]\ndistro = \"foxy\"",
+        "[ros.stop_hint]\ntype = \"pose\"", "[dds]\nimu_topic = \"imu data\""}) {
+    try {
+      app::parse_config(bad, "t.toml");
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const app::ConfigError& error) {
+      EXPECT_NE(std::string(error.what()).find("t.toml:"), std::string::npos) << error.what();
+    }
+  }
+}
+
+TEST(HeadingAcrossRestart, StateFileCarriesHeadingSigmaAndOffset) {
+  core::Estimator first;
+  core::Sample s;
+  for (int i = 0; i < 4000; ++i) {
+    s.t_s = i / 400.0;
+    s.rate_dps = Vec3(0.1, 0.2, 0.3 + (i > 2000 ? 10.0 : 0.0));
+    first.update(s);
+  }
+  first.set_heading(45.0, 0.0);
+  for (int i = 4000; i < 4400; ++i) {
+    s.t_s = i / 400.0;
+    first.update(s);
+  }
+  app::SavedState saved;
+  static_cast<core::LearnedState&>(saved) = first.learned();
+  const app::SavedState back = app::parse_state(app::format_state(saved), "mem");
+  EXPECT_DOUBLE_EQ(back.heading_deg, first.last().heading_deg);
+  EXPECT_DOUBLE_EQ(back.heading_fix_offset_deg, first.diagnostics().heading_fix_offset_deg);
+  core::Estimator second;
+  second.restore(back);
+  s.t_s = 0.0;
+  s.rate_dps = Vec3(0.1, 0.2, 0.3);
+  second.update(s);
+  EXPECT_NEAR(second.last().heading_deg, first.last().heading_deg, 1e-3);
+  EXPECT_NEAR(second.last().heading_sigma_deg, first.last().heading_sigma_deg, 1e-3);
+  EXPECT_DOUBLE_EQ(second.diagnostics().heading_fix_offset_deg, first.diagnostics().heading_fix_offset_deg);
+  EXPECT_EQ(second.diagnostics().heading_fixes, 0u) << "a restore is not a fix";
+  core::Estimator fresh;
+  fresh.restore(back, false);
+  fresh.update(s);
+  EXPECT_NEAR(fresh.last().heading_deg, 0.0, 1e-3);
+}
+
+TEST(HeadingAcrossRestart, CorruptHeadingIsRefused) {
+  app::SavedState saved;
+  saved.heading_deg = 1e300;
+  saved.heading_variance_deg2 = 1.0;
+  EXPECT_THROW(app::parse_state(app::format_state(saved), "mem"), app::StateError);
+}
+
+TEST(StoppedHint, TheGyroWinsOverAVehicleThatSaysStoppedWhileTurning) {
+  core::Estimator estimator;
+  core::Sample s;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n(0.0, 0.05);
+  int i = 0;
+  const auto run = [&](double seconds, double rate_dps) {
+    int accepted = 0;
+    for (const int end = i + static_cast<int>(seconds * 400); i < end; ++i) {
+      s.t_s = i / 400.0;
+      s.rate_dps = Vec3(0.1 + n(rng), 0.2 + n(rng), 0.3 + rate_dps + n(rng));
+      accepted += estimator.update(s).closed.accepted ? 1 : 0;
+    }
+    return accepted;
+  };
+  run(20.0, 0.0);
+  estimator.set_motion_hint(core::MotionHint::Stopped);
+  run(0.5, 2.0);  // closes the still segment the turn cut short (that one was still)
+  EXPECT_EQ(run(15.0, 2.0), 0) << "a 2 dps turn is no stop, whatever the vehicle says";
+  EXPECT_GE(estimator.diagnostics().hint_conflicts, 4u);
+  EXPECT_NEAR(estimator.last().bias_dps.z(), 0.3, 0.02) << "the bias did not take the turn";
+}
