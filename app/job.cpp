@@ -63,6 +63,7 @@ std::unique_ptr<core::Estimator> reload(const JobOptions& options, const core::E
   if (options.method) settings.method = running.method();  // the command line still wins
   auto next = std::make_unique<core::Estimator>(settings);
   next->restore(running.learned());  // bias, models, heading with its sigma and fix offset
+  next->set_motion_hint(running.diagnostics().motion_hint);  // the vehicle's last word still holds
   LogPriority level;
   if (parse_log_level(config.log_level, level)) set_log_level(level);
   log(LogPriority::Notice, "reload",

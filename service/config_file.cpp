@@ -279,7 +279,7 @@ bool ros_name_ok(const std::string& name, bool absolute_only, bool allow_slash) 
 
 std::string ros_name(const TableReader& r, const toml::node& node, const std::string& key, bool absolute_only,
                      bool allow_slash, bool allow_empty) {
-  const std::string value = text_of(r.file(), node, key);
+  std::string value = text_of(r.file(), node, key);
   if (allow_empty && value.empty()) return value;
   if (!ros_name_ok(value, absolute_only, allow_slash))
     fail(r.file(), node, key,

@@ -34,10 +34,15 @@ accepted() { sed -n 's/.*segments up to [0-9.]* s: \([0-9]*\) accepted as still.
 "$headingd" replay "$dir/rec.csv" --no-dds -o /dev/null 2>"$dir/none.err" || fail "replay"
 none=$(accepted "$dir/none.err")
 
-with_odometry() { # with_odometry MODE
-  "$peer" odom $domain rt/odom "$1" 30 >"$dir/$1.peer" 2>&1 &
+with_odometry() { # with_odometry MODE [twist]
+  local kind=${2:-odom} cfg="$dir/cfg.toml"
+  if [ "$kind" = twist ]; then
+    cfg="$dir/twist.toml"
+    sed 's/^topic = "odom"$/topic = "cmd_twist"\ntype = "twist"/' "$dir/cfg.toml" >"$cfg"
+  fi
+  "$peer" "$kind" $domain "rt/$([ "$kind" = twist ] && echo cmd_twist || echo odom)" "$1" 30 >"$dir/$1.peer" 2>&1 &
   local peer_pid=$!
-  "$headingd" replay "$dir/rec.csv" --speed 6 --wait-subscribers 15 -c "$dir/cfg.toml" -o /dev/null 2>"$dir/$1.err" ||
+  "$headingd" replay "$dir/rec.csv" --speed 6 --wait-subscribers 15 -c "$cfg" -o /dev/null 2>"$dir/$1.err" ||
     fail "replay with $1 odometry: $(tail -3 "$dir/$1.err")"
   kill $peer_pid 2>/dev/null
   wait $peer_pid 2>/dev/null
@@ -56,10 +61,14 @@ with_odometry stale
 stale=$(accepted "$dir/stale.err")
 read -r stale_ok stale_refused <<<"$motion"
 echo "no odometry: $none accepted as still"
+cp "$dir/stopped.err" "$dir/stopped-odometry.err"
+with_odometry stopped twist
+twist=$(accepted "$dir/stopped.err")
 
 [ "$none" -le 12 ] || fail "the creep's segments were accepted without a hint ($none): the scenario tests nothing"
 [ "$stopped" -ge $((none + 12)) ] || fail "stopped odometry: $stopped accepted, not well above $none"
 [ "${stopped_ok:-0}" -ge 50 ] || fail "stopped odometry: only ${stopped_ok:-0} messages accepted"
+[ "$twist" -ge $((none + 12)) ] || fail "stopped geometry_msgs/Twist: $twist accepted, not well above $none"
 [ "$moving" -le 1 ] || fail "moving odometry: $moving accepted (only the start-up may be)"
 [ "$nan" -eq "$none" ] || fail "NaN odometry changed the verdicts ($nan vs $none)"
 [ "${nan_ok:-1}" -eq 0 ] && [ "${nan_refused:-0}" -ge 50 ] || fail "NaN odometry not refused and counted"
@@ -68,4 +77,4 @@ echo "no odometry: $none accepted as still"
 grep -q "vehicle motion message refused: a speed is not a finite number" "$dir/nan.err" || fail "no log line for NaN odometry"
 lines=$(grep -c "vehicle motion message refused" "$dir/nan.err")
 [ "$lines" -le 12 ] || fail "$lines log lines for refused odometry: not rate-limited"
-echo "ok: odometry 'stopped' accepts the creeping stops ($none -> $stopped), 'moving' blocks them ($moving), NaN and stale odometry are refused, counted and logged $lines times"
+echo "ok: odometry 'stopped' accepts the creeping stops ($none -> $stopped; as a Twist: $twist), 'moving' blocks them ($moving), NaN and stale odometry are refused, counted and logged $lines times"

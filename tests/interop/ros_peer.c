@@ -7,8 +7,8 @@
  *     sensor-data best-effort reader), /diagnostics, the temperature, ros_discovery_info and
  *     headingd/orientation, and one line per endpoint discovered (DCPSPublication and
  *     DCPSSubscription: topic, type, reliability, durability).
- *   ros_peer odom DOMAIN TOPIC MODE SECONDS
- *     Publishes nav_msgs/Odometry at 20 Hz. MODE: stopped (zero twist), moving (1 m/s, 0.2 rad/s),
+ *   ros_peer odom|twist DOMAIN TOPIC MODE SECONDS
+ *     Publishes nav_msgs/Odometry (or geometry_msgs/Twist) at 20 Hz. MODE: stopped (zero twist), moving (1 m/s, 0.2 rad/s),
  *     nan (NaN twist), stale (stamped 60 s ago), future (stamped 60 s ahead).
  */
 #include <math.h>
@@ -214,10 +214,12 @@ static int listen(dds_domainid_t domain, double seconds, const char* ns) {
   return 0;
 }
 
-static int odom(dds_domainid_t domain, const char* topic_name, const char* mode, double seconds) {
+static int odom(dds_domainid_t domain, const char* topic_name, const char* mode, double seconds, int twist_only) {
   const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
   if (participant < 0) return 1;
-  const dds_entity_t topic = dds_create_topic(participant, &nav_msgs_msg_dds__Odometry__desc, topic_name, NULL, NULL);
+  const dds_entity_t topic =
+      dds_create_topic(participant, twist_only ? &geometry_msgs_msg_dds__Twist__desc : &nav_msgs_msg_dds__Odometry__desc,
+                       topic_name, NULL, NULL);
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 10);
@@ -250,7 +252,7 @@ static int odom(dds_domainid_t domain, const char* topic_name, const char* mode,
     } else if (strcmp(mode, "nan") == 0) {
       m.twist.twist.linear.x = NAN;
     }
-    dds_write(writer, &m);
+    dds_write(writer, twist_only ? (const void*)&m.twist.twist : (const void*)&m);
     ++sent;
     dds_sleepfor(DDS_MSECS(50));
   }
@@ -262,8 +264,8 @@ static int odom(dds_domainid_t domain, const char* topic_name, const char* mode,
 int main(int argc, char** argv) {
   if (argc >= 4 && strcmp(argv[1], "listen") == 0)
     return listen((dds_domainid_t)atoi(argv[2]), atof(argv[3]), argc > 4 ? argv[4] : "");
-  if (argc == 6 && strcmp(argv[1], "odom") == 0)
-    return odom((dds_domainid_t)atoi(argv[2]), argv[3], argv[4], atof(argv[5]));
-  fprintf(stderr, "usage: ros_peer listen DOMAIN SECONDS [NAMESPACE] | ros_peer odom DOMAIN TOPIC MODE SECONDS\n");
+  if (argc == 6 && (strcmp(argv[1], "odom") == 0 || strcmp(argv[1], "twist") == 0))
+    return odom((dds_domainid_t)atoi(argv[2]), argv[3], argv[4], atof(argv[5]), strcmp(argv[1], "twist") == 0);
+  fprintf(stderr, "usage: ros_peer listen DOMAIN SECONDS [NAMESPACE] | ros_peer odom|twist DOMAIN TOPIC MODE SECONDS\n");
   return 64;
 }
