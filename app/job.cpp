@@ -9,6 +9,7 @@
 
 #include "app/summary.hpp"
 #include "dds/dds_node.hpp"
+#include "io/atomic_file.hpp"
 #include "io/csv_out.hpp"
 #include "pipeline/dds_sink.hpp"
 #include "pipeline/estimates_sink.hpp"
@@ -62,7 +63,7 @@ std::unique_ptr<core::Estimator> reload(const JobOptions& options, const core::E
   core::EstimatorSettings settings = config.estimator;
   if (options.method) settings.method = running.method();  // the command line still wins
   auto next = std::make_unique<core::Estimator>(settings);
-  next->restore(running.learned());  // bias, models, heading with its sigma and fix offset
+  next->restore(running.learned());                          // bias, models, heading with its sigma and fix offset
   next->set_motion_hint(running.diagnostics().motion_hint);  // the vehicle's last word still holds
   LogPriority level;
   if (parse_log_level(config.log_level, level)) set_log_level(level);
@@ -96,7 +97,31 @@ int set_rate_and_speed(double output_rate_hz, const std::string& speed, JobOptio
   return kExitOk;
 }
 
+// Every file we write against every file we read or write: `replay X -o X` would truncate the
+// recording before reading it.
+std::optional<std::string> clobbered_file(const JobOptions& options) {
+  const std::pair<const char*, const std::optional<std::string>*> outputs[] = {
+      {"estimates output", &options.output}, {"recording", &options.record_path}, {"state file", &options.state_path}};
+  for (std::size_t i = 0; i < std::size(outputs); ++i) {
+    const auto& [what, path] = outputs[i];
+    if (!*path || **path == "-") continue;
+    if (options.input_path && same_file(**path, *options.input_path))
+      return std::string("the ") + what + " " + **path + " is the input " + *options.input_path +
+             " itself: refusing to overwrite it";
+    for (std::size_t j = i + 1; j < std::size(outputs); ++j) {
+      const auto& [other, other_path] = outputs[j];
+      if (*other_path && **other_path != "-" && same_file(**path, **other_path))
+        return std::string("the ") + what + " and the " + other + " are one file (" + **path + ")";
+    }
+  }
+  return std::nullopt;
+}
+
 int run_job(core::SampleSource& source, const JobOptions& options) {
+  if (const auto clash = clobbered_file(options)) {
+    std::fprintf(stderr, "headingd: %s\n", clash->c_str());
+    return kExitUsage;
+  }
   // Start-up, in order. Each part is an object declared after the ones it needs, so leaving
   // this function takes them down in reverse; the pipeline finishes its sinks the same way.
   install_stop_signals();
@@ -193,6 +218,10 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
     }
     if (recording) summary.recording = recording->path();
     print_summary(summary, source, pipeline.estimator());
+  }
+  if (outcome.estimator_fault && exit_code(outcome.ending) == kExitOk) {
+    std::fprintf(stderr, "headingd: the estimator faulted (non-finite state); the heading after it is not valid\n");
+    return kExitSoftware;
   }
   return exit_code(outcome.ending);
 }

@@ -14,7 +14,8 @@ namespace headingd::app {
 struct JobOptions {
   std::string command;  // names the summary: "run", "replay", "record"
   core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
-  std::optional<std::string> output;  // estimates CSV ("-": standard output)
+  std::optional<std::string> input_path;  // the recording read, if any: never written to
+  std::optional<std::string> output;      // estimates CSV ("-": standard output)
   double output_rate_hz = 10.0;
   std::optional<std::string> record_path;  // native CSV of the samples
   std::string record_comments;             // its '#' provenance lines

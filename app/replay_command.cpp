@@ -34,6 +34,7 @@ int run_replay(const ReplayOptions& options) {
     return code;
 
   job.output = options.output;
+  job.input_path = options.input;
   job.publish = options.publish;
   job.batch = 4096;
   job.wait_subscribers_s = options.wait_subscribers_s;

@@ -96,6 +96,7 @@ int run_live(const RunOptions& options) {
       return code;
     job.batch = 4096;
     job.record_comments = comments_of(*recording);
+    job.input_path = *options.recording;
     return run_job(*recording, job);
   }
   job.speed_factor = 0.0;  // a sensor paces itself

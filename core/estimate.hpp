@@ -25,7 +25,10 @@ struct Estimate {
   Vec3 rate_dps = Vec3::Zero();                                         // bias-corrected
   double heading_sigma_deg = std::numeric_limits<double>::quiet_NaN();  // NaN: not provided
   double temp_c = std::numeric_limits<double>::quiet_NaN();             // the sample's; NaN when none
-  bool in_startup = false;          // heading held while the start-up segment is measured
+  bool in_startup = false;  // heading held while the start-up segment is measured
+  // The estimator's state went non-finite (past every input check): the heading stays at its
+  // last finite value with an infinite sigma for the rest of the run. Never NaN with sigma 0.
+  bool fault = false;
   std::uint64_t segment_index = 0;  // segment this sample belongs to
   SegmentVerdict closed;            // the segment this sample closed, if any
 };

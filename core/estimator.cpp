@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace headingd::core {
 namespace {
@@ -37,14 +38,62 @@ std::optional<std::string> validate(const EstimatorSettings& s) {
   return std::nullopt;
 }
 
+std::optional<std::string> implausible(const LearnedState& s) {
+  const auto in = [](const Vec3& v, double lo, double hi) {
+    return v.allFinite() && v.minCoeff() >= lo && v.maxCoeff() <= hi;
+  };
+  if (!in(s.bias_dps, -kMaxPlausibleRateDps, kMaxPlausibleRateDps)) return "bias beyond any gyro's range";
+  if (!in(s.bias_sigma_dps, 0.0, 100.0)) return "bias sigma not within 0..100 dps";
+  if (!in(s.sigma_still_dps, 0.0, 100.0)) return "still noise not within 0..100 dps";
+  if (!in(s.arw_dps_rt_hz, 0.0, 100.0)) return "noise density not within 0..100 dps/sqrt(Hz)";
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto& t = s.temperature_sums[axis];
+    if (!t.normal.allFinite() || !t.rhs.allFinite() || !std::isfinite(t.yy) || !std::isfinite(t.weight) || t.weight < 0)
+      return "temperature model not finite";
+  }
+  if (!std::isnan(s.heading_deg) && !(std::abs(s.heading_deg) <= 1e7)) return "heading not finite";
+  if (!std::isnan(s.heading_variance_deg2) && !(s.heading_variance_deg2 >= 0.0 && s.heading_variance_deg2 <= 1e6))
+    return "heading variance not within 0..1e6 deg^2";
+  if (!std::isfinite(s.heading_fix_offset_deg)) return "heading offset not finite";
+  return std::nullopt;
+}
+
 Estimator::Estimator(const EstimatorSettings& settings) : settings_(settings), impl_(make(settings)) {}
 
 const Estimate& Estimator::update(const Sample& sample) {
   ++samples_;
-  return std::visit([&](auto& impl) -> const Estimate& { return impl.update(sample); }, impl_);
+  if (fault_) {
+    fault_estimate_.t_s = sample.t_s;
+    return fault_estimate_;
+  }
+  const Estimate& e = std::visit([&](auto& impl) -> const Estimate& { return impl.update(sample); }, impl_);
+  // One sum catches any NaN or infinity; the paper's methods have no sigma (NaN by design).
+  const double sum = e.heading_deg + e.attitude.coeffs().sum() + e.bias_dps.sum() + e.rate_dps.sum() +
+                     (settings_.method == Method::Auto ? e.heading_sigma_deg : 0.0);
+  if (!std::isfinite(sum)) return enter_fault(e);
+  good_heading_deg_ = e.heading_deg;
+  good_attitude_ = e.attitude;
+  good_bias_dps_ = e.bias_dps;
+  if (e.closed.closed) good_state_ = learned_now();
+  return e;
+}
+
+const Estimate& Estimator::enter_fault(const Estimate& poisoned) {
+  fault_ = true;
+  fault_estimate_ = Estimate{};
+  fault_estimate_.t_s = poisoned.t_s;
+  fault_estimate_.heading_deg = good_heading_deg_;
+  fault_estimate_.attitude = good_attitude_;
+  fault_estimate_.bias_dps = good_bias_dps_;
+  fault_estimate_.bias_sigma_dps = Vec3::Constant(std::numeric_limits<double>::infinity());
+  fault_estimate_.heading_sigma_deg = std::numeric_limits<double>::infinity();
+  fault_estimate_.temp_c = std::isfinite(poisoned.temp_c) ? poisoned.temp_c : std::numeric_limits<double>::quiet_NaN();
+  fault_estimate_.fault = true;
+  return fault_estimate_;
 }
 
 const Estimate& Estimator::last() const {
+  if (fault_) return fault_estimate_;
   return std::visit([](const auto& impl) -> const Estimate& { return impl.last(); }, impl_);
 }
 
@@ -93,6 +142,11 @@ Diagnostics Estimator::diagnostics() const {
 }
 
 LearnedState Estimator::learned() const {
+  // After a fault only what was learned while healthy may be saved.
+  return fault_ ? good_state_ : learned_now();
+}
+
+LearnedState Estimator::learned_now() const {
   LearnedState state;
   state.bias_dps = last().bias_dps;
   // A bias without a sigma (the paper's methods, or during start-up) would be restored as
@@ -118,6 +172,7 @@ LearnedState Estimator::learned() const {
 }
 
 void Estimator::restore(const LearnedState& state, bool with_heading) {
+  if (const auto problem = implausible(state)) throw std::invalid_argument("state refused: " + *problem);
   restore_bias(state.bias_dps, state.bias_sigma_dps);
   if (with_heading && std::isfinite(state.heading_deg)) {
     if (auto* a = std::get_if<AutoEstimator>(&impl_))

@@ -22,12 +22,16 @@ inline const EstimatorSettings kDefaultEstimatorSettings{};
 
 // Empty when usable; otherwise names the offending field and why.
 std::optional<std::string> validate(const EstimatorSettings& settings);
+// Empty when a saved state may be restored; otherwise what is out of range.
+std::optional<std::string> implausible(const LearnedState& state);
 
 class Estimator {
  public:
   explicit Estimator(const EstimatorSettings& settings = kDefaultEstimatorSettings);
 
   const Estimate& update(const Sample& sample);
+  // The state went non-finite: the estimate is frozen with an infinite sigma (Estimate::fault).
+  bool fault() const { return fault_; }
   const Estimate& last() const;
   std::uint64_t samples() const { return samples_; }
 
@@ -43,6 +47,7 @@ class Estimator {
   // What a restart should start from (the state file), and taking it back.
   LearnedState learned() const;
   // `with_heading`: also the heading saved with it (a vehicle that was not moved meanwhile).
+  // Throws std::invalid_argument, restoring nothing, for a state with non-finite or absurd values.
   void restore(const LearnedState& state, bool with_heading = true);
 
   void set_motion_hint(MotionHint hint);
@@ -56,7 +61,17 @@ class Estimator {
  private:
   EstimatorSettings settings_;
   std::variant<PaperEstimator, AutoEstimator> impl_;
+  const Estimate& enter_fault(const Estimate& poisoned);
+  LearnedState learned_now() const;
+
   std::uint64_t samples_ = 0;
+  // The output invariant: what leaves update() is finite, or a fault (sigma infinite).
+  bool fault_ = false;
+  Estimate fault_estimate_;
+  double good_heading_deg_ = 0.0;
+  Eigen::Quaterniond good_attitude_ = Eigen::Quaterniond::Identity();
+  Vec3 good_bias_dps_ = Vec3::Zero();
+  LearnedState good_state_;  // at the last segment closed while healthy: what a fault saves
   std::uint64_t heading_fixes_ = 0;
   double heading_fix_offset_deg_ = 0.0;
 };

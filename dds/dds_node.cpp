@@ -446,7 +446,8 @@ void DdsNode::publish(const core::Estimate& e, const core::Diagnostics& diagnost
     set_stamp(o.stamp(), stamp_s);
     o.seq(++orientation_seq_);
     o.heading_rad(heading_rad);
-    o.heading_variance_rad2(std::isfinite(sigma_rad) ? sigma_rad * sigma_rad : nan);
+    // NaN: the method gives none; infinite: the estimator faulted.
+    o.heading_variance_rad2(std::isnan(sigma_rad) ? nan : sigma_rad * sigma_rad);
     o.qw(e.attitude.w());
     o.qx(e.attitude.x());
     o.qy(e.attitude.y());

@@ -54,6 +54,10 @@ ImuFields imu_fields(const core::Estimate& e, const core::Diagnostics& d, const 
           std::max(kMinVarianceRad2, sample_sigma[a] * sample_sigma[a] / n + bias_sigma[a] * bias_sigma[a]);
   }  // else all zeros: no sigma from the paper's methods ("covariance unknown")
   f.linear_acceleration_covariance[0] = -1.0;  // a gyro: not provided
+  if (e.fault) {                               // nothing we send is an estimate any more
+    f.orientation_covariance = {-1, 0, 0, 0, 0, 0, 0, 0, 0};
+    f.angular_velocity_covariance = {-1, 0, 0, 0, 0, 0, 0, 0, 0};
+  }
   return f;
 }
 

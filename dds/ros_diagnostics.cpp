@@ -99,6 +99,7 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
   entry.message = "tracking the bias";
   const double sigma = e.heading_sigma_deg;
   const bool has_sigma = d.method == core::Method::Auto;
+  if (e.fault) raise(entry, DiagnosticLevel::Error, "estimator fault: state not finite, heading frozen; restart");
   if (d.in_startup) raise(entry, DiagnosticLevel::Warn, "start-up: measuring the bias, keep the platform still");
   if (has_sigma && !std::isfinite(sigma)) raise(entry, DiagnosticLevel::Error, "heading sigma is not finite");
   if (has_sigma && sigma > ros_.heading_sigma_error_deg)

@@ -10,4 +10,9 @@ namespace headingd::app {
 // Throws OutputError naming the file and what failed.
 void write_file_atomically(const std::string& path, std::string_view bytes);
 
+// True when both paths name one file: the same device and inode when both exist (links and
+// other spellings included), else the same canonical path. Checked before an output is opened, so it never truncates an
+// input.
+bool same_file(const std::string& a, const std::string& b);
+
 }  // namespace headingd::app

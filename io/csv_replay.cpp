@@ -196,6 +196,7 @@ void CsvReplaySource::parse_line(std::string_view line, core::Sample& sample) {
     fail(text);
   }
   sample.t_s = t_s;
+  if (!core::plausible(sample)) fail(*core::why_implausible(sample));
   if (samples_ == 0) first_t_s_ = t_s;
   previous_t_s_ = t_s;
 }

@@ -60,7 +60,9 @@ app::StatusReport DdsSink::report(const core::Estimate& estimate) {
     degraded_until_s_ = estimate.t_s + kDegradedAfterRecoveryS;
   }
   app::StatusReport r;
-  if (!health.live)
+  if (estimate.fault)
+    r.state = app::SensorState::Failed;
+  else if (!health.live)
     r.state = app::SensorState::Replay;
   else if (estimate.t_s < degraded_until_s_)
     r.state = app::SensorState::Degraded;

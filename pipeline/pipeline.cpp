@@ -4,6 +4,7 @@
 
 #include "io/csv_out.hpp"
 #include "io/input_error.hpp"
+#include "service/log.hpp"
 #include "service/signals.hpp"
 
 namespace headingd::pipeline {
@@ -82,8 +83,18 @@ Outcome Pipeline::run() {
       }
       // The hot loop: nothing here that a batch can do once. A stop is seen per batch, or by
       // the pacer per sample (a recording in real time may sit in one batch for seconds).
+      bool implausible = false;
       for (; done < count; ++done) {
         const core::Sample& sample = batch[done];
+        // The estimator's door, for every source: a reader names file and line first; this
+        // catches what a source let through (a driver bug, a new source).
+        if (!core::plausible(sample)) {
+          implausible = true;
+          outcome.ending = Ending::BadInput;
+          outcome.error = source_.describe() + ": sample " + std::to_string(outcome.samples + done + 1) + ": " +
+                          *core::why_implausible(sample);
+          break;
+        }
         if (options_.pacer && !options_.pacer->wait(sample)) break;
         if (inbox_ != nullptr) apply_commands();
         const core::Estimate& estimate = estimator_->update(sample);
@@ -93,6 +104,13 @@ Outcome Pipeline::run() {
       if (done > 0) outcome.last_t_s = batch[done - 1].t_s;
       done = 0;
       for (Sink* sink : sinks_) sink->batch_done(*estimator_, source_);
+      if (estimator_->fault() && !outcome.estimator_fault) {
+        outcome.estimator_fault = true;
+        app::log(app::LogPriority::Error, "estimator fault",
+                 "the estimator's state went non-finite (a bug past every input check): heading frozen at its last "
+                 "finite value with an infinite sigma, the last healthy state kept for saving");
+      }
+      if (implausible) break;
       if (reloader_ && app::take_reload_request()) {
         if (auto next = reloader_(*estimator_)) estimator_ = std::move(next);
       }

@@ -41,6 +41,7 @@ struct Outcome {
   std::uint64_t samples = 0;     // estimated (across reloads)
   double first_t_s = 0.0;
   double last_t_s = 0.0;
+  bool estimator_fault = false;  // the output invariant tripped (Estimate::fault)
 };
 
 const char* ending_name(Ending ending);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "dds/dds_participant.hpp"
 #include "io/state_file.hpp"
@@ -49,6 +50,8 @@ void restore_state(core::Estimator& estimator, const std::string& path, bool wit
                  "restored from " + path);
   } catch (const app::StateError& error) {
     app::log(app::LogPriority::Notice, "state", error.what());
+  } catch (const std::invalid_argument& error) {
+    app::log(app::LogPriority::Warning, "state", "state file " + path + ": " + error.what() + "; ignored");
   }
 }
 

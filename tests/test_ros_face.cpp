@@ -304,3 +304,75 @@ TEST(StoppedHint, TheGyroWinsOverAVehicleThatSaysStoppedWhileTurning) {
   EXPECT_GE(estimator.diagnostics().hint_conflicts, 4u);
   EXPECT_NEAR(estimator.last().bias_dps.z(), 0.3, 0.02) << "the bias did not take the turn";
 }
+
+// Issue 15 item 3: a NaN that got past every input check (injected straight into the estimator)
+// must not come out as a NaN heading with sigma 0: the estimate freezes with an infinite sigma,
+// the fault is flagged, what is saved is the last healthy state, and the Imu says "not provided".
+TEST(OutputInvariant, NanPastEveryGuardBecomesAFaultNeverNanWithSigmaZero) {
+  for (const core::Method method : {core::Method::Auto, core::Method::C}) {
+    core::EstimatorSettings settings;
+    settings.method = method;
+    core::Estimator estimator(settings);
+    core::Sample s;
+    for (int i = 0; i < 2400; ++i) {
+      s.t_s = i / 400.0;
+      s.rate_dps = Vec3(0.1, 0.2, 0.3 + (i > 1600 ? 5.0 : 0.0));
+      estimator.update(s);
+    }
+    const double heading_before = estimator.last().heading_deg;
+    s.t_s += 0.0025;
+    s.rate_dps = Vec3(0.1, kNan, 0.3);  // past the door: only a test can do this
+    for (int i = 0; i < 1200; ++i) {
+      s.t_s += 0.0025;
+      const core::Estimate& e = estimator.update(s);
+      ASSERT_TRUE(std::isfinite(e.heading_deg)) << "method " << core::method_name(method);
+      ASSERT_TRUE(e.fault);
+      ASSERT_TRUE(std::isinf(e.heading_sigma_deg) && e.heading_sigma_deg > 0);
+      ASSERT_TRUE(e.attitude.coeffs().allFinite() && e.bias_dps.allFinite() && e.rate_dps.allFinite());
+    }
+    EXPECT_NEAR(estimator.last().heading_deg, heading_before, 0.1);
+    EXPECT_TRUE(estimator.fault());
+    const core::LearnedState saved = estimator.learned();
+    EXPECT_FALSE(core::implausible(saved).has_value()) << *core::implausible(saved);
+    app::SavedState file;
+    static_cast<core::LearnedState&>(file) = saved;
+    EXPECT_NO_THROW(app::parse_state(app::format_state(file), "mem"));
+    RateWindow window;
+    window.add(estimator.last().rate_dps);
+    const auto imu = app::imu_fields(estimator.last(), estimator.diagnostics(), window, RosSettings{});
+    EXPECT_EQ(imu.orientation_covariance[0], -1.0);
+    EXPECT_EQ(imu.angular_velocity_covariance[0], -1.0);
+  }
+}
+
+TEST(OutputInvariant, AbsurdStateIsRefusedBeforeItTouchesTheEstimator) {
+  app::SavedState state;
+  state.bias_sigma_dps = Vec3::Constant(1e160);  // a valid checksum does not make it sane
+  EXPECT_THROW(app::parse_state(app::format_state(state), "mem"), app::StateError);
+  core::LearnedState learned;
+  learned.bias_sigma_dps = Vec3::Constant(1e160);
+  core::Estimator estimator;
+  EXPECT_THROW(estimator.restore(learned), std::invalid_argument);
+  learned.bias_sigma_dps = Vec3::Constant(0.01);
+  learned.sigma_still_dps = Vec3(kNan, 1, 1);
+  EXPECT_THROW(estimator.restore(learned), std::invalid_argument);
+  core::Sample s;
+  s.rate_dps = Vec3(0.1, 0.2, 0.3);
+  EXPECT_TRUE(std::isfinite(estimator.update(s).heading_deg));
+  EXPECT_FALSE(estimator.fault());
+}
+
+TEST(OutputInvariant, TheDoorRefusesWhatNoGyroReports) {
+  core::Sample s;
+  EXPECT_TRUE(core::plausible(s));
+  s.rate_dps.z() = 1e308;
+  EXPECT_FALSE(core::plausible(s));
+  EXPECT_NE(core::why_implausible(s)->find("rate z"), std::string::npos);
+  s.rate_dps.z() = 0.0;
+  s.temp_c = 200.0;
+  EXPECT_FALSE(core::plausible(s));
+  s.temp_c = kNan;  // unknown is fine
+  EXPECT_TRUE(core::plausible(s));
+  s.t_s = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(core::plausible(s));
+}

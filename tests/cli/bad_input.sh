@@ -60,6 +60,25 @@ printf "%s\n0,1,2,3\n0.1,1,2,3\n" "$hdr" >"$dir/short.csv"
 expect allan-too-short 65 "too few samples for an Allan analysis" -- allan "$dir/short.csv" --axis z
 expect unknown-scenario 64 "unknown scenario 'moon'" -- simulate --scenario moon --output-dir "$dir/sim"
 
+# Finite as read, absurd as physics (issue 15 item 3): refused at the estimator's door with file and
+# line, never a NaN heading with sigma 0.
+printf '%s\n0,1,2,3\n0.0025,1,2,1e308\n' "$hdr" >"$dir/huge.csv"
+expect huge-rate 65 "$dir/huge.csv:3: rate z = 1e+308 dps is beyond +-10000 dps" -- replay --no-dds "$dir/huge.csv" -o "$dir/o.csv"
+printf '#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1]\n0,0,0,0\n2500000,0,0,1e307\n' >"$dir/euroc.csv"
+expect euroc-overflow 65 "$dir/euroc.csv:3: rate z = inf dps is beyond +-10000 dps" -- replay --no-dds "$dir/euroc.csv" -o "$dir/o.csv"
+printf '%s,temp_c\n0,1,2,3,25\n0.0025,1,2,3,900\n' "$hdr" >"$dir/hot.csv"
+expect hot-chip 65 "$dir/hot.csv:3: temperature 900 degC is outside -60..150 degC" -- replay --no-dds "$dir/hot.csv" -o "$dir/o.csv"
+# replay X -o X (item 7): the recording is never truncated.
+printf '%s\n0,1,2,3\n0.0025,1,2,3\n' "$hdr" >"$dir/keep.csv"
+cp "$dir/keep.csv" "$dir/keep.orig"
+ln -s keep.csv "$dir/alias.csv"
+expect output-is-input 64 "is the input $dir/keep.csv itself: refusing to overwrite it" -- replay --no-dds "$dir/keep.csv" -o "$dir/keep.csv"
+expect output-is-input-link 64 "is the input $dir/keep.csv itself" -- replay --no-dds "$dir/keep.csv" -o "$dir/alias.csv"
+expect record-is-input 64 "the recording $dir/keep.csv is the input" -- run --no-dds --recording "$dir/keep.csv" --speed max --record "$dir/keep.csv"
+expect output-is-record 64 "the estimates output and the recording are one file" -- run --no-dds --simulated-chip still --duration 1 -o "$dir/new.csv" --record "$dir/./new.csv"
+if cmp -s "$dir/keep.csv" "$dir/keep.orig"; then echo "ok   input-untouched: the recording is as it was"; else
+  echo "FAIL input-untouched: the recording changed"; failures=$((failures + 1)); fi
+
 # Estimates before a bad line are kept: the malformed file's first sample was written.
 "$headingd" replay --no-dds "$dir/malformed.csv" -o "$dir/kept.csv" -q 2>/dev/null
 if [ "$(wc -l <"$dir/kept.csv")" -ne 2 ]; then
