@@ -57,7 +57,9 @@ std::unique_ptr<core::Estimator> reload(const JobOptions& options, const core::E
   try {
     config = load_config(*options.config_path);
   } catch (const ConfigError& error) {
-    log(LogPriority::Error, "reload", std::string("SIGHUP: ") + error.what() + "; keeping the running configuration");
+    // Keyed by the error itself: a different mistake later is reported even after a burst.
+    log(LogPriority::Error, std::string("reload ") + error.what(),
+        std::string("SIGHUP: ") + error.what() + "; keeping the running configuration");
     return nullptr;
   }
   core::EstimatorSettings settings = config.estimator;

@@ -10,6 +10,8 @@
  *   ros_peer odom|twist DOMAIN TOPIC MODE SECONDS
  *     Publishes nav_msgs/Odometry (or geometry_msgs/Twist) at 20 Hz. MODE: stopped (zero twist), moving (1 m/s, 0.2 rad/s),
  *     nan (NaN twist), stale (stamped 60 s ago), future (stamped 60 s ahead).
+ *   ros_peer bad-commands DOMAIN N RATE
+ *     Sends N HeadingCommands with a NaN heading at RATE per second (reliable, keep all).
  */
 #include <math.h>
 #include <stdio.h>
@@ -261,7 +263,52 @@ static int odom(dds_domainid_t domain, const char* topic_name, const char* mode,
   return 0;
 }
 
+/* N HeadingCommands with a NaN heading, at RATE per second, reliable and kept: every one reaches
+ * headingd and every one must be refused. */
+static int bad_commands(dds_domainid_t domain, long n, double rate) {
+  const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
+  if (participant < 0) return 1;
+  const dds_entity_t topic =
+      dds_create_topic(participant, &headingd_msg_HeadingCommand_desc, "headingd/command", NULL, NULL);
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+  const dds_entity_t writer = dds_create_writer(participant, topic, qos, NULL);
+  dds_delete_qos(qos);
+  if (topic < 0 || writer < 0) return 1;
+  dds_publication_matched_status_t matched = {0};
+  const double wait_until = mono_s() + 15.0;
+  while (matched.current_count == 0 && mono_s() < wait_until) {
+    dds_get_publication_matched_status(writer, &matched);
+    dds_sleepfor(DDS_MSECS(20));
+  }
+  if (matched.current_count == 0) {
+    fprintf(stderr, "ros_peer: no headingd/command reader\n");
+    return 1;
+  }
+  dds_sleepfor(DDS_MSECS(300));
+  const double start = mono_s();
+  for (long i = 0; i < n; ++i) {
+    headingd_msg_HeadingCommand c;
+    memset(&c, 0, sizeof c);
+    const double now = wall_s();
+    c.stamp.sec = (int32_t)floor(now);
+    c.stamp.nanosec = (uint32_t)((now - floor(now)) * 1e9);
+    c.kind = headingd_msg_COMMAND_SET_HEADING;
+    c.heading_rad = NAN;
+    if (dds_write(writer, &c) < 0) return 1;
+    const double due = start + (double)(i + 1) / rate;
+    while (mono_s() < due) dds_sleepfor(DDS_USECS(200));
+  }
+  dds_sleepfor(DDS_SECS(1));  /* let reliable delivery finish */
+  printf("commands: sent %ld with a NaN heading\n", n);
+  dds_delete(participant);
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 5 && strcmp(argv[1], "bad-commands") == 0)
+    return bad_commands((dds_domainid_t)atoi(argv[2]), atol(argv[3]), atof(argv[4]));
   if (argc >= 4 && strcmp(argv[1], "listen") == 0)
     return listen((dds_domainid_t)atoi(argv[2]), atof(argv[3]), argc > 4 ? argv[4] : "");
   if (argc == 6 && (strcmp(argv[1], "odom") == 0 || strcmp(argv[1], "twist") == 0))
