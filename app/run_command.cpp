@@ -80,7 +80,12 @@ int run_live(const RunOptions& options) {
   if (parse_log_level(config.log_level, level)) set_log_level(level);
   job.output = options.output;
   job.record_path = options.record_path;
+  if (options.state_path && options.state_path->empty()) {
+    std::fprintf(stderr, "headingd: --state needs a file name (to run without saved state, give none)\n");
+    return kExitUsage;
+  }
   job.state_path = options.state_path ? options.state_path : config.state_path;
+  if (job.state_path && job.state_path->empty()) job.state_path.reset();  // [state] path = "": none
   job.state_save_interval_s = config.state_save_interval_s;
   job.state_restore_heading = config.state_restore_heading;
   job.publish = options.publish;

@@ -10,7 +10,6 @@
 namespace headingd::drivers {
 namespace {
 
-constexpr std::size_t kBufferBytes = 1 << 20;  // also the longest line accepted
 constexpr std::string_view kEurocTime = "timestamp";
 constexpr std::string_view kEurocRates[3] = {"w_RS_S_x", "w_RS_S_y", "w_RS_S_z"};
 
@@ -25,18 +24,11 @@ bool is_euroc_header(std::string_view comment_body) {
   return column_key(comment_body.substr(0, comment_body.find(','))) == kEurocTime;
 }
 
-std::string shorten(std::string_view text) {
-  constexpr std::size_t kMax = 40;
-  return text.size() <= kMax ? std::string(text) : std::string(text.substr(0, kMax)) + "…";
-}
+std::string shorten(std::string_view text) { return printable(text, 40); }
 
 }  // namespace
 
-CsvReplaySource::CsvReplaySource(std::string path) : path_(std::move(path)), buffer_(kBufferBytes) {
-  file_ = std::fopen(path_.c_str(), "rb");
-  if (file_ == nullptr) {
-    throw OpenError("cannot open " + path_ + ": " + std::strerror(errno));
-  }
+CsvReplaySource::CsvReplaySource(std::string path) : path_(path), lines_(std::move(path)) {
   try {
     read_header();
   } catch (...) {
@@ -45,9 +37,7 @@ CsvReplaySource::CsvReplaySource(std::string path) : path_(std::move(path)), buf
   }
 }
 
-CsvReplaySource::CsvReplaySource(std::FILE* file, std::string name)
-    : path_(std::move(name)), file_(file), buffer_(kBufferBytes) {
-  if (file_ == nullptr) throw OpenError("cannot read " + path_ + ": no stream");
+CsvReplaySource::CsvReplaySource(std::FILE* file, std::string name) : path_(name), lines_(file, std::move(name)) {
   try {
     read_header();
   } catch (...) {
@@ -58,53 +48,15 @@ CsvReplaySource::CsvReplaySource(std::FILE* file, std::string name)
 
 CsvReplaySource::~CsvReplaySource() { close(); }
 
-void CsvReplaySource::close() {
-  if (file_ != nullptr) {
-    std::fclose(file_);
-    file_ = nullptr;
-  }
-}
+void CsvReplaySource::close() { lines_.close(); }
 
 std::string CsvReplaySource::describe() const {
   return path_ + (format_ == Format::Euroc ? " (EuRoC/ASL IMU CSV)" : " (headingd CSV)");
 }
 
-void CsvReplaySource::fail(std::string problem) const { throw InputError(path_, line_number_, std::move(problem)); }
+void CsvReplaySource::fail(std::string problem) const { lines_.fail(std::move(problem)); }
 
-bool CsvReplaySource::next_line(std::string_view& line) {
-  while (true) {
-    const char* start = buffer_.data() + begin_;
-    const auto* newline = static_cast<const char*>(std::memchr(start, '\n', end_ - begin_));
-    if (newline != nullptr) {
-      line = std::string_view(start, static_cast<std::size_t>(newline - start));
-      begin_ += line.size() + 1;
-      ++line_number_;
-      return true;
-    }
-    if (eof_ || file_ == nullptr) {
-      if (begin_ == end_) return false;
-      line = std::string_view(start, end_ - begin_);  // last line without a newline
-      begin_ = end_;
-      ++line_number_;
-      return true;
-    }
-    // Move the partial line to the front and fill the rest of the buffer.
-    const std::size_t partial = end_ - begin_;
-    if (partial == buffer_.size()) {
-      ++line_number_;
-      fail("line longer than " + std::to_string(buffer_.size()) + " bytes");
-    }
-    std::memmove(buffer_.data(), start, partial);
-    begin_ = 0;
-    end_ = partial;
-    const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_);
-    end_ += got;
-    if (got == 0) {
-      if (std::ferror(file_) != 0) fail(std::string("read error: ") + std::strerror(errno));
-      eof_ = true;
-    }
-  }
-}
+bool CsvReplaySource::next_line(std::string_view& line) { return lines_.next(line); }
 
 void CsvReplaySource::read_header() {
   std::string_view line;
@@ -127,7 +79,7 @@ void CsvReplaySource::read_header() {
     find_columns(fields_);
     return;
   }
-  if (line_number_ == 0) fail("file is empty");
+  if (lines_.line_number() == 0) fail("file is empty");
   fail("no header line: expected 'time_s,gx_dps,gy_dps,gz_dps' or an EuRoC '#timestamp [ns],…' line");
 }
 
@@ -135,6 +87,12 @@ void CsvReplaySource::find_columns(const Fields& header) {
   if (header.overflow) fail("header has more than " + std::to_string(Fields::kMax) + " columns");
   column_names_.clear();
   for (std::size_t i = 0; i < header.count; ++i) column_names_.emplace_back(trim(header.items[i]));
+  // Which of two columns of one name holds the data? Neither guess is safe.
+  for (std::size_t i = 0; i < column_names_.size(); ++i)
+    for (std::size_t j = i + 1; j < column_names_.size(); ++j)
+      if (!column_names_[i].empty() && column_key(column_names_[i]) == column_key(column_names_[j]))
+        fail("column '" + printable(column_key(column_names_[i]), 60) + "' appears twice in the header (columns " +
+             std::to_string(i + 1) + " and " + std::to_string(j + 1) + ")");
 
   const auto find = [&](std::string_view key) -> std::optional<std::size_t> {
     for (std::size_t i = 0; i < column_names_.size(); ++i)
@@ -146,7 +104,7 @@ void CsvReplaySource::find_columns(const Fields& header) {
     if (!index) {
       std::string have;
       for (const auto& name : column_names_) have += (have.empty() ? "" : ",") + name;
-      fail("missing column '" + std::string(key) + "' in header (found: " + have + ")");
+      fail("missing column '" + std::string(key) + "' in header (found: " + printable(have, 200) + ")");
     }
     return *index;
   };
@@ -226,7 +184,7 @@ std::size_t CsvReplaySource::read(std::span<core::Sample> out) {
       ++count;
       ++samples_;
     }
-    if (count == 0 && samples_ == 0 && file_ != nullptr) fail("no samples after the header");
+    if (count == 0 && samples_ == 0 && lines_.is_open()) fail("no samples after the header");
   } catch (const InputError& error) {
     if (count == 0) {
       close();

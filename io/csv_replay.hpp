@@ -13,6 +13,7 @@
 
 #include "core/sample_source.hpp"
 #include "io/input_error.hpp"
+#include "io/line_reader.hpp"
 #include "io/text_fields.hpp"
 
 namespace headingd::drivers {
@@ -47,12 +48,7 @@ class CsvReplaySource final : public core::SampleSource {
   [[noreturn]] void fail(std::string problem) const;
 
   std::string path_;
-  std::FILE* file_ = nullptr;
-  std::vector<char> buffer_;
-  std::size_t begin_ = 0;
-  std::size_t end_ = 0;
-  bool eof_ = false;
-  std::uint64_t line_number_ = 0;
+  LineReader lines_;
 
   Format format_ = Format::Native;
   std::vector<std::string> column_names_;

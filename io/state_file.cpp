@@ -22,6 +22,7 @@ namespace {
 
 constexpr const char* kMagic = "# headingd state";
 constexpr int kVersion = 1;
+constexpr off_t kMaxStateBytes = 64 * 1024;  // ours are about 1 KiB
 
 // FNV-1a, 64 bit: enough to notice truncation and corruption (not an attack).
 std::uint64_t checksum(const std::string& text) {
@@ -200,11 +201,30 @@ void save_state(const std::string& path, const SavedState& state, int crash_afte
 }
 
 SavedState load_state(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw StateError("state file " + path + ": " + std::strerror(errno) + "; starting without saved state");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_state(text.str(), path);
+  const auto refuse = [&](const std::string& why) -> void {
+    throw StateError("state file " + path + ": " + why + "; starting without saved state");
+  };
+  // Non-blocking, so a FIFO planted there cannot hold up the start; then only a regular file
+  // of a sane size is read (a device such as /dev/zero would never end).
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) refuse(std::strerror(errno));
+  struct stat info {};
+  std::string text;
+  const bool regular = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode);
+  if (regular && info.st_size <= kMaxStateBytes) {
+    text.resize(static_cast<std::size_t>(info.st_size));
+    std::size_t got = 0;
+    while (got < text.size()) {
+      const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+      if (n <= 0) break;
+      got += static_cast<std::size_t>(n);
+    }
+    text.resize(got);
+  }
+  ::close(fd);
+  if (!regular) refuse("not a regular file");
+  if (info.st_size > kMaxStateBytes) refuse("larger than any state file (" + std::to_string(info.st_size) + " bytes)");
+  return parse_state(text, path);
 }
 
 }  // namespace headingd::app

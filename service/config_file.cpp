@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 #include <toml++/toml.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -314,9 +315,14 @@ void read_dds(const TableReader& r, DdsSettings& d) {
           d.orientation_rate_hz = r.number(node, key, 0.0, 1000.0, true);
         else if (name == "orientation_reliable")
           d.orientation_reliable = r.boolean(node, key);
-        else if (name == "profiles_xml")
+        else if (name == "profiles_xml") {
           d.profiles_xml = text_of(r.file(), node, key);
-        else if (name == "on_duplicate") {
+          // Checked here, so a bad path is a configuration error (78) at start and on reload.
+          struct stat info {};
+          if (::stat(d.profiles_xml->c_str(), &info) != 0 || ::access(d.profiles_xml->c_str(), R_OK) != 0)
+            fail(r.file(), node, key, "is " + shown(node) + ": cannot read it: " + std::strerror(errno));
+          if (!S_ISREG(info.st_mode)) fail(r.file(), node, key, "is " + shown(node) + ": not a regular file");
+        } else if (name == "on_duplicate") {
           const std::string value = text_of(r.file(), node, key);
           if (value == "warn")
             d.on_duplicate = DuplicatePolicy::Warn;

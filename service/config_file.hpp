@@ -20,7 +20,7 @@ struct Config {
   core::EstimatorSettings estimator = core::kDefaultEstimatorSettings;
   DdsSettings dds;
   SensorOptions sensor;
-  std::optional<std::string> state_path;  // persisted bias and temperature model
+  std::optional<std::string> state_path;  // persisted bias and temperature model; "" = none
   double state_save_interval_s = 60.0;
   bool state_restore_heading = true;  // the heading goes on from the saved one after a restart
   std::string log_level = "info";

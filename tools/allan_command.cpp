@@ -23,6 +23,7 @@
 #include "pipeline/pipeline.hpp"
 #include "service/exit_codes.hpp"
 #include "service/input_errors.hpp"
+#include "service/standard_output.hpp"
 
 namespace headingd::app {
 namespace {
@@ -260,7 +261,7 @@ int run_allan(const AllanOptions& options) {
     }
     std::fprintf(stderr, "headingd allan: plot written to %s\n", options.plot_path->c_str());
   }
-  return kExitOk;
+  return finish_standard_output();
 }
 
 }  // namespace headingd::app

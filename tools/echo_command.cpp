@@ -24,6 +24,7 @@
 #include "service/config_file.hpp"
 #include "service/exit_codes.hpp"
 #include "service/signals.hpp"
+#include "service/standard_output.hpp"
 
 namespace headingd::app {
 
@@ -34,6 +35,7 @@ namespace {
 std::mutex g_print;
 
 std::atomic<std::uint64_t> g_received{0};
+std::uint64_t g_limit = 0;  // --count: no line beyond it, however many readers deliver at once
 
 template <typename Message>
 class Printer : public DataReaderListener {
@@ -46,6 +48,7 @@ class Printer : public DataReaderListener {
       if (!info.valid_data) continue;
       const std::string line = line_for(m, json_);
       std::lock_guard lock(g_print);
+      if (g_limit > 0 && g_received.load() >= g_limit) return;
       std::printf("%s\n", line.c_str());
       std::fflush(stdout);
       ++g_received;
@@ -83,6 +86,7 @@ int run_echo(const EchoOptions& options) {
     }
   }
   install_stop_signals();
+  g_limit = options.count;
   DomainParticipant* participant = nullptr;
   std::vector<std::unique_ptr<DataReaderListener>> listeners;
   try {
@@ -139,7 +143,7 @@ int run_echo(const EchoOptions& options) {
   }
   delete_participant(participant);  // stops the listeners before they go away
   listeners.clear();
-  return kExitOk;
+  return finish_standard_output();
 }
 
 int run_command(const CommandOptions& options) {

@@ -1,47 +1,56 @@
 #include "tools/heading_score.hpp"
 
-#include <fstream>
+#include <optional>
+#include <utility>
 
 #include "io/input_error.hpp"
+#include "io/line_reader.hpp"
 #include "io/text_fields.hpp"
 
 namespace headingd::app {
 
 TimeSeries read_columns(const std::string& path, const std::string& time_column, const std::string& value_column) {
-  std::ifstream in(path);
-  if (!in) throw drivers::OpenError("cannot open " + path);
+  // The same discipline as the recording reader: bounded lines, BOM skipped, a truncated last
+  // line, a duplicated column or time going backwards are errors naming file and line.
+  drivers::LineReader lines(path);
   TimeSeries series;
-  std::string line;
-  std::uint64_t line_number = 0;
+  std::string_view line;
   std::optional<std::size_t> time_index;
   std::optional<std::size_t> value_index;
   std::size_t columns = 0;
   drivers::Fields fields;
-  while (std::getline(in, line)) {
-    ++line_number;
+  while (lines.next(line)) {
     const auto text = drivers::trim(line);
     if (text.empty() || text.front() == '#') continue;
     drivers::split_fields(text, ',', fields);
+    if (fields.overflow) lines.fail("more than " + std::to_string(drivers::Fields::kMax) + " fields");
     if (!time_index) {
       columns = fields.count;
       for (std::size_t i = 0; i < fields.count; ++i) {
-        if (drivers::trim(fields.items[i]) == time_column) time_index = i;
-        if (drivers::trim(fields.items[i]) == value_column) value_index = i;
+        const auto name = drivers::trim(fields.items[i]);
+        for (auto [wanted, index] : {std::pair{&time_column, &time_index}, std::pair{&value_column, &value_index}}) {
+          if (name != *wanted) continue;
+          if (*index)
+            lines.fail("column '" + *wanted + "' appears twice in the header (columns " + std::to_string(**index + 1) +
+                       " and " + std::to_string(i + 1) + ")");
+          *index = i;
+        }
       }
       if (!time_index || !value_index)
-        throw drivers::InputError(path, line_number, "header lacks '" + time_column + "' or '" + value_column + "'");
+        lines.fail("header lacks '" + time_column + "' or '" + value_column +
+                   "' (found: " + drivers::printable(text, 200) + ")");
       continue;
     }
     if (fields.count != columns)
-      throw drivers::InputError(
-          path, line_number, "expected " + std::to_string(columns) + " fields, found " + std::to_string(fields.count));
+      lines.fail("expected " + std::to_string(columns) + " fields, found " + std::to_string(fields.count));
     const auto t = drivers::parse_double(fields.items[*time_index]);
     const auto v = drivers::parse_double(fields.items[*value_index]);
-    if (!t || !v) throw drivers::InputError(path, line_number, "time or value is not a finite number");
+    if (!t || !v) lines.fail("time or value is not a finite number: '" + drivers::printable(text, 80) + "'");
+    if (!series.t_s.empty() && !(*t > series.t_s.back())) lines.fail("time does not advance");
     series.t_s.push_back(*t);
     series.value.push_back(*v);
   }
-  if (!time_index) throw drivers::InputError(path, line_number, "no header line");
+  if (!time_index) lines.fail("no header line");
   return series;
 }
 

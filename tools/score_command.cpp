@@ -7,6 +7,7 @@
 #include "io/input_error.hpp"
 #include "service/exit_codes.hpp"
 #include "service/input_errors.hpp"
+#include "service/standard_output.hpp"
 #include "tools/heading_score.hpp"
 
 namespace headingd::app {
@@ -48,7 +49,7 @@ int run_score(const ScoreOptions& options) {
   }
   std::printf("%-12s %10.2f %10.2f %10.2f %12.3f %8.2f\n", options.label.c_str(), metrics.max_abs_deg(),
               metrics.final_abs_deg(), metrics.rms_deg(), metrics.drift_deg_per_h(), metrics.hours());
-  return kExitOk;
+  return finish_standard_output();
 }
 
 }  // namespace headingd::app

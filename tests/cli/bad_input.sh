@@ -79,6 +79,39 @@ expect output-is-record 64 "the estimates output and the recording are one file"
 if cmp -s "$dir/keep.csv" "$dir/keep.orig"; then echo "ok   input-untouched: the recording is as it was"; else
   echo "FAIL input-untouched: the recording changed"; failures=$((failures + 1)); fi
 
+# Item 8: score, echo and the readers held to replay's standards.
+printf '\xef\xbb\xbftime_s,heading_deg\n0,0\n1,1\n' >"$dir/bom.csv"
+printf 'time_s,heading_deg,heading_deg\n0,0,1\n' >"$dir/dup.csv"
+printf 'time_s,heading_deg\n0,0\n1,1' >"$dir/trunc.csv"
+printf 'time_s,heading_deg\n0,0\n2,1\n1,1\n' >"$dir/order.csv"
+printf 't\x1b[31mime,x\n0,0\n' >"$dir/ctl.csv"
+printf '\xef\xbb\xbf%s\n0,1,2,3\n0.0025,1,2,3\n' "$hdr" >"$dir/bom-rec.csv"
+printf 'time_s,gx_dps,gy_dps,gz_dps,gz_dps\n0,1,2,3,4\n' >"$dir/dup-rec.csv"
+printf '%s\n0,1,2,3\n0.0025,1,2,3' "$hdr" >"$dir/trunc-rec.csv"
+expect score-duplicate-column 65 "$dir/dup.csv:1: column 'heading_deg' appears twice in the header (columns 2 and 3)" -- score "$dir/dup.csv" "$dir/bom.csv"
+expect replay-duplicate-column 65 "$dir/dup-rec.csv:1: column 'gz_dps' appears twice in the header (columns 4 and 5)" -- replay --no-dds "$dir/dup-rec.csv" -o "$dir/o.csv"
+expect score-truncated 65 "$dir/trunc.csv:3: the last line has no newline" -- score "$dir/trunc.csv" "$dir/bom.csv"
+expect replay-truncated 65 "$dir/trunc-rec.csv:3: the last line has no newline" -- replay --no-dds "$dir/trunc-rec.csv" -o "$dir/o.csv"
+expect score-time-order 65 "$dir/order.csv:4: time does not advance" -- score "$dir/order.csv" "$dir/bom.csv"
+expect score-directory 66 "cannot read $dir: it is a directory" -- score "$dir" "$dir/bom.csv"
+expect replay-directory 66 "cannot read $dir: it is a directory" -- replay --no-dds "$dir" -o "$dir/o.csv"
+expect control-bytes-escaped 65 'found: t\x1b[31mime,x' -- replay --no-dds "$dir/ctl.csv" -o "$dir/o.csv"
+if "$headingd" score "$dir/bom.csv" "$dir/bom.csv" >/dev/null 2>&1 && "$headingd" replay --no-dds "$dir/bom-rec.csv" -o /dev/null 2>/dev/null; then
+  echo "ok   bom-accepted: a UTF-8 byte-order mark before the header is skipped"
+else
+  echo "FAIL bom-accepted"; failures=$((failures + 1))
+fi
+out="$("$headingd" score "$dir/bom.csv" "$dir/bom.csv" 2>&1 >/dev/full)"; rc=$?
+if [ $rc -eq 73 ]; then echo "ok   score-stdout-full: exit 73 ($out)"; else echo "FAIL score-stdout-full: exit $rc"; failures=$((failures + 1)); fi
+# The state path: "" is a usage error, a FIFO or a device is refused at once (no hang, no endless read).
+expect state-empty-path 64 "--state needs a file name" -- run --no-dds --simulated-chip still --duration 1 --state ""
+mkfifo "$dir/state.fifo"
+expect state-fifo 0 "state.fifo: not a regular file; starting without saved state" -- run --no-dds --simulated-chip still --duration 1 --state "$dir/state.fifo" -o /dev/null
+expect state-device 0 "/dev/zero: not a regular file" -- run --no-dds --simulated-chip still --duration 1 --state /dev/zero -o /dev/null
+[ -e "$dir/.tmp" ] || [ -e ./.tmp ] && { echo "FAIL stray .tmp"; failures=$((failures + 1)); }
+printf '[dds]\nprofiles_xml = "%s/none.xml"\n' "$dir" >"$dir/noxml.toml"
+expect profiles-xml-unreadable 78 "noxml.toml:2:16: 'dds.profiles_xml' is '$dir/none.xml': cannot read it" -- run --simulated-chip still --duration 1 -c "$dir/noxml.toml"
+
 # Estimates before a bad line are kept: the malformed file's first sample was written.
 "$headingd" replay --no-dds "$dir/malformed.csv" -o "$dir/kept.csv" -q 2>/dev/null
 if [ "$(wc -l <"$dir/kept.csv")" -ne 2 ]; then

@@ -1,0 +1,98 @@
+#include "io/line_reader.hpp"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "io/input_error.hpp"
+
+namespace headingd::drivers {
+namespace {
+
+constexpr std::string_view kBom = "\xEF\xBB\xBF";
+
+void refuse_directory(std::FILE* file, const std::string& path) {
+  struct stat info {};
+  if (::fstat(::fileno(file), &info) == 0 && S_ISDIR(info.st_mode)) {
+    std::fclose(file);
+    throw OpenError("cannot read " + path + ": it is a directory");
+  }
+}
+
+}  // namespace
+
+LineReader::LineReader(std::string path) : path_(std::move(path)), buffer_(kMaxLineBytes) {
+  file_ = std::fopen(path_.c_str(), "rb");
+  if (file_ == nullptr) throw OpenError("cannot open " + path_ + ": " + std::strerror(errno));
+  refuse_directory(file_, path_);
+}
+
+LineReader::LineReader(std::FILE* file, std::string name)
+    : path_(std::move(name)), file_(file), buffer_(kMaxLineBytes) {
+  if (file_ == nullptr) throw OpenError("cannot read " + path_ + ": no stream");
+  refuse_directory(file_, path_);
+}
+
+LineReader::~LineReader() { close(); }
+
+void LineReader::close() {
+  if (file_ != nullptr) {
+    std::fclose(file_);
+    file_ = nullptr;
+  }
+}
+
+void LineReader::fail(std::string problem) const { throw InputError(path_, line_number_, std::move(problem)); }
+
+bool LineReader::next(std::string_view& line) {
+  while (true) {
+    const char* start = buffer_.data() + begin_;
+    const auto* newline = static_cast<const char*>(std::memchr(start, '\n', end_ - begin_));
+    if (newline != nullptr) {
+      line = std::string_view(start, static_cast<std::size_t>(newline - start));
+      begin_ += line.size() + 1;
+      if (line_number_++ == 0 && line.substr(0, kBom.size()) == kBom) line.remove_prefix(kBom.size());
+      return true;
+    }
+    if (eof_ || file_ == nullptr) {
+      if (begin_ == end_) return false;
+      begin_ = end_;
+      ++line_number_;
+      fail("the last line has no newline: the file is truncated, or still being written");
+    }
+    // Move the partial line to the front and fill the rest of the buffer.
+    const std::size_t partial = end_ - begin_;
+    if (partial == buffer_.size()) {
+      ++line_number_;
+      fail("line longer than " + std::to_string(buffer_.size()) + " bytes");
+    }
+    std::memmove(buffer_.data(), start, partial);
+    begin_ = 0;
+    end_ = partial;
+    const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_);
+    end_ += got;
+    if (got == 0) {
+      if (std::ferror(file_) != 0) fail(std::string("read error: ") + std::strerror(errno));
+      eof_ = true;
+    }
+  }
+}
+
+std::string printable(std::string_view text, std::size_t max_bytes) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size() && i < max_bytes; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    }
+  }
+  if (text.size() > max_bytes) out += "...";
+  return out;
+}
+
+}  // namespace headingd::drivers
