@@ -46,7 +46,7 @@ TEST(CsvReplay, NativeWithCommentsTemperatureAndAnyColumnOrder) {
                              "25.5,0.0,-0.455,0.1,x,0.2\n"
                              "\n"
                              "25.5,0.0025,+1.5,0.1,y,0.2\r\n"
-                             "25.6,0.005,2e-3,0.1,z,0.2");  // last line without newline
+                             "25.6,0.005,2e-3,0.1,z,0.2\n");
   CsvReplaySource source(path);
   EXPECT_EQ(source.format(), CsvReplaySource::Format::Native);
   EXPECT_TRUE(source.has_temperature());
@@ -148,3 +148,19 @@ TEST(CsvReplayErrors, EurocBadTimestamp) {
 }
 
 TEST(CsvReplayErrors, MissingFileIsAnOpenError) { EXPECT_THROW(CsvReplaySource("/nonexistent/imu.csv"), OpenError); }
+
+TEST(CsvReplay, TruncatedLastLineIsAnError) {
+  // A file cut short, or still being written: the last line may be half a number.
+  TempDir dir;
+  const auto path = dir.file("rec.csv", "time_s,gx_dps,gy_dps,gz_dps\n0,1,2,3\n0.0025,1,2,3.14");
+  CsvReplaySource source(path);
+  std::vector<headingd::core::Sample> batch(8);
+  EXPECT_EQ(source.read(batch), 1u);
+  try {
+    source.read(batch);
+    FAIL() << "accepted a last line without its newline";
+  } catch (const headingd::drivers::InputError& error) {
+    EXPECT_EQ(error.line(), 3u);
+    EXPECT_NE(error.problem().find("no newline"), std::string::npos) << error.what();
+  }
+}

@@ -235,23 +235,38 @@ int run_allan(const AllanOptions& options) {
   }
 
   if (options.emit_config) {
-    std::printf("\n# headingd estimator settings from this recording's noise\n[estimator]\nsigma_still_dps = [");
-    for (int a = 0; a < 3; ++a) {
-      const double sigma =
-          rec.sigma_blocks ? std::sqrt(rec.sigma_still_sum[a] / static_cast<double>(rec.sigma_blocks)) : 0.0;
-      std::printf("%s%.5f", a ? ", " : "", sigma);
+    // Only what `--config` accepts is printed as a setting (positive and finite, the bias walk
+    // within [0, 1]); a figure this recording cannot give is printed as a comment saying why.
+    const auto usable = [](double v, double hi) { return std::isfinite(v) && v > 0.0 && v <= hi; };
+    std::printf("\n# headingd estimator settings from this recording's noise\n[estimator]\n");
+    std::array<double, 3> sigma{};
+    bool sigma_ok = rec.sigma_blocks > 0;
+    for (std::size_t a = 0; a < 3; ++a) {
+      sigma[a] = rec.sigma_blocks ? std::sqrt(rec.sigma_still_sum[a] / static_cast<double>(rec.sigma_blocks)) : 0.0;
+      sigma_ok = sigma_ok && usable(sigma[a], 100.0);
     }
-    std::printf("]\n\n[estimator.auto]\n");
-    if (axes.size() == 3) {
-      std::printf("arw_dps_rt_hz = [%.5f, %.5f, %.5f]\n", terms[0].arw, terms[1].arw, terms[2].arw);
-    } else {
+    if (sigma_ok)
+      std::printf("sigma_still_dps = [%.6g, %.6g, %.6g]\n", sigma[0], sigma[1], sigma[2]);
+    else
+      std::printf("# sigma_still_dps: not measurable here (no still stretch with noise on every axis)\n");
+    std::printf("\n[estimator.auto]\n");
+    if (axes.size() != 3)
       std::printf("# arw_dps_rt_hz needs all three axes (--axis all)\n");
-    }
+    else if (usable(terms[0].arw, 10.0) && usable(terms[1].arw, 10.0) && usable(terms[2].arw, 10.0))
+      std::printf("arw_dps_rt_hz = [%.6g, %.6g, %.6g]\n", terms[0].arw, terms[1].arw, terms[2].arw);
+    else
+      std::printf("# arw_dps_rt_hz: not measurable here (a noiseless or too short axis)\n");
     // The bias may wander by the bias instability within the time the curve's minimum takes:
     // a random walk of density K reaches sigma = K sqrt(tau / 3) at tau.
     const auto& z = terms[static_cast<std::size_t>(axes.back())];
     const double walk = z.rate_random_walk.value_or(z.bias_instability * 0.664 * std::sqrt(3.0 / z.tau_at_minimum_s));
-    std::printf("bias_walk_dps_rt_s = %.3g\n", walk);
+    if (usable(walk, 1.0))
+      std::printf("bias_walk_dps_rt_s = %.6g\n", walk);
+    else
+      std::printf(
+          "# bias_walk_dps_rt_s: %.3g from this recording is outside what a still gyro does (0, 1]; "
+          "keep the default\n",
+          walk);
   }
 
   if (options.plot_path) {

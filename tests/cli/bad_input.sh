@@ -112,6 +112,15 @@ expect state-device 0 "/dev/zero: not a regular file" -- run --no-dds --simulate
 printf '[dds]\nprofiles_xml = "%s/none.xml"\n' "$dir" >"$dir/noxml.toml"
 expect profiles-xml-unreadable 78 "noxml.toml:2:16: 'dds.profiles_xml' is '$dir/none.xml': cannot read it" -- run --simulated-chip still --duration 1 -c "$dir/noxml.toml"
 
+# allan --emit-config prints only what --config accepts, even for a noiseless (constant) recording.
+awk 'BEGIN { print "time_s,gx_dps,gy_dps,gz_dps"; for (k = 0; k < 40000; ++k) printf "%.4f,0.5,0.5,0.5\n", k / 400 }' >"$dir/const.csv"
+"$headingd" allan "$dir/const.csv" --emit-config 2>/dev/null | sed -n '/^# headingd estimator settings/,$p' >"$dir/emitted.toml"
+if grep -q '^\[estimator\]' "$dir/emitted.toml" && "$headingd" replay --no-dds "$dir/const.csv" -c "$dir/emitted.toml" -o /dev/null 2>"$dir/emitted.err"; then
+  echo "ok   allan-emit-config: what it prints for a noiseless recording is a valid config ($(grep -c '^#' "$dir/emitted.toml") lines explain what it cannot give)"
+else
+  echo "FAIL allan-emit-config: $(cat "$dir/emitted.err")"; cat "$dir/emitted.toml"; failures=$((failures + 1))
+fi
+
 # Estimates before a bad line are kept: the malformed file's first sample was written.
 "$headingd" replay --no-dds "$dir/malformed.csv" -o "$dir/kept.csv" -q 2>/dev/null
 if [ "$(wc -l <"$dir/kept.csv")" -ne 2 ]; then

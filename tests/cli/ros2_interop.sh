@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # headingd as a ROS 2 node, seen by a ROS 2 peer on another DDS implementation (Cyclone DDS,
 # types from the public .msg definitions; tests/interop/ros_peer.c):
-#  A. simulated chip standing still, a set-heading at 7 s, bus errors at 6 s, output stuck at
-#     9 s: the Imu per REP-145 (-1 where nothing is provided, during start-up and after), a
+#  A. simulated chip standing still, a set-heading at 6 s, bus errors at 5 s, output stuck at
+#     8 s: the Imu per REP-145 (-1 where nothing is provided, during start-up and after), a
 #     yaw-only quaternion equal to the heading and continuous across the set-heading,
 #     /diagnostics with its keys and levels going to WARN and ERROR, the Temperature, and
 #     ros_discovery_info naming our node with the GIDs of our endpoints;
@@ -35,19 +35,19 @@ field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p"; }
 
 # ---- A. live, simulated chip ---------------------------------------------------------------
 config "$dir/a.toml"
-"$peer" listen $domain 16 >"$dir/a.peer" 2>"$dir/a.peer.err" &
+"$peer" listen $domain 14 >"$dir/a.peer" 2>"$dir/a.peer.err" &
 pids+=($!)
 sleep 1
-"$headingd" run --simulated-chip still --sim-realtime --sim-nack-at 6 --sim-stuck-at 9 --duration 14 \
+"$headingd" run --simulated-chip still --sim-realtime --sim-nack-at 5 --sim-stuck-at 8 --duration 12 \
   -c "$dir/a.toml" -o /dev/null 2>"$dir/a.err" &
 pids+=($!)
-sleep 7
+sleep 6
 "$headingd" command set-heading --heading-deg 90 -c "$dir/a.toml" --wait 5 >/dev/null 2>&1 || fail "set-heading not sent"
 wait "${pids[1]}" || fail "run: $(tail -3 "$dir/a.err")"
 wait "${pids[0]}"
 
 n_imu=$(grep -c '^imu_sensor_data' "$dir/a.peer")
-[ "$n_imu" -ge 500 ] || fail "only $n_imu Imu messages reached the sensor-data reader"
+[ "$n_imu" -ge 400 ] || fail "only $n_imu Imu messages reached the sensor-data reader"
 n_reliable=$(grep -c '^imu_reliable' "$dir/a.peer")
 [ "$n_reliable" -eq 0 ] || fail "a reliable reader matched the default best-effort Imu writer ($n_reliable)"
 
@@ -93,7 +93,7 @@ awk '
   }
   END {
     printf "yaw: %d Imu matched to Orientation by stamp (|yaw - (heading - offset)| <= 1e-9), fixes %d, offset %s rad, largest yaw step %.2e rad\n", matched, maxfix, jump, maxstep
-    if (matched < 300 || maxfix != 1 || jump + 0 < 1.5 || maxstep > 1e-3) bad = 1
+    if (matched < 300 || maxfix != 1 || jump + 0 < 1.5 || maxstep > 1e-2) bad = 1
     exit bad
   }' "$dir/a.peer" "$dir/a.peer" || fail "the Imu yaw is not the continuous heading"
 
@@ -171,7 +171,7 @@ awk 'BEGIN { srand(7); print "time_s,gx_dps,gy_dps,gz_dps,temp_c"
   for (k = 0; k < 2000; ++k) printf "%.6f,%.6f,%.6f,%.6f,25.0\n", k / 400.0, rand() - 0.5, rand() - 0.5, 3 * sin(k / 50.0) + rand() - 0.5 }' >"$dir/c.csv"
 config "$dir/c.toml" 'orientation_reliable = true' 'orientation_rate_hz = 50.0' '[estimator]' 'method = "a"' \
   'still_at_start = false' 'sigma_still_dps = [0.3, 0.3, 0.3]'
-"$peer" listen $domain 15 >"$dir/c.peer" 2>/dev/null &
+"$peer" listen $domain 9 >"$dir/c.peer" 2>/dev/null &
 pids+=($!)
 "$headingd" replay "$dir/c.csv" --speed 2 --wait-subscribers 10 -c "$dir/c.toml" -o /dev/null \
   2>"$dir/c.err" || fail "replay: $(tail -3 "$dir/c.err")"

@@ -42,7 +42,7 @@ with_odometry() { # with_odometry MODE [twist]
   fi
   "$peer" "$kind" $domain "rt/$([ "$kind" = twist ] && echo cmd_twist || echo odom)" "$1" 30 >"$dir/$1.peer" 2>&1 &
   local peer_pid=$!
-  "$headingd" replay "$dir/rec.csv" --speed 6 --wait-subscribers 15 -c "$cfg" -o /dev/null 2>"$dir/$1.err" ||
+  "$headingd" replay "$dir/rec.csv" --speed 15 --wait-subscribers 15 -c "$cfg" -o /dev/null 2>"$dir/$1.err" ||
     fail "replay with $1 odometry: $(tail -3 "$dir/$1.err")"
   kill $peer_pid 2>/dev/null
   wait $peer_pid 2>/dev/null
