@@ -8,6 +8,7 @@ namespace headingd::core {
 namespace {
 
 constexpr double kUnknownSigmaRestoredDps = 0.01;
+constexpr double kMaxSavedBiasSigmaDps = 100.0;
 
 std::variant<PaperEstimator, AutoEstimator> make(const EstimatorSettings& s) {
   if (s.method == Method::Auto) return AutoEstimator(s.segments, s.automatic);
@@ -36,6 +37,13 @@ std::optional<std::string> validate(const EstimatorSettings& s) {
     return "temperature.min_span_c must be positive and at most quadratic_span_c";
   if (t.min_points < 3) return "temperature.min_points must be at least 3";
   return std::nullopt;
+}
+
+LearnedState savable(LearnedState state) {
+  // A bias sigma this large says "unknown" as well as any larger one (the chip's zero-rate
+  // level is +-25 dps at its widest): capped, so it stays within what a restore accepts.
+  state.bias_sigma_dps = state.bias_sigma_dps.cwiseMin(kMaxSavedBiasSigmaDps);
+  return state;
 }
 
 std::optional<std::string> implausible(const LearnedState& s) {
@@ -74,7 +82,9 @@ const Estimate& Estimator::update(const Sample& sample) {
   good_heading_deg_ = e.heading_deg;
   good_attitude_ = e.attitude;
   good_bias_dps_ = e.bias_dps;
-  if (e.closed.closed) good_state_ = learned_now();
+  if (e.closed.closed) {
+    if (LearnedState now = savable(learned_now()); !implausible(now)) good_state_ = now;
+  }
   return e;
 }
 
@@ -142,8 +152,11 @@ Diagnostics Estimator::diagnostics() const {
 }
 
 LearnedState Estimator::learned() const {
-  // After a fault only what was learned while healthy may be saved.
-  return fault_ ? good_state_ : learned_now();
+  // After a fault only what was learned while healthy may be saved; nor is a state that a
+  // restart would refuse (a bias beyond any gyro's range after a wild temperature model).
+  if (fault_) return good_state_;
+  LearnedState now = savable(learned_now());
+  return implausible(now) ? good_state_ : now;
 }
 
 LearnedState Estimator::learned_now() const {

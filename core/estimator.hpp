@@ -24,6 +24,8 @@ inline const EstimatorSettings kDefaultEstimatorSettings{};
 std::optional<std::string> validate(const EstimatorSettings& settings);
 // Empty when a saved state may be restored; otherwise what is out of range.
 std::optional<std::string> implausible(const LearnedState& state);
+// The state as it may be saved: a bias sigma beyond the restore limit capped to it.
+LearnedState savable(LearnedState state);
 
 class Estimator {
  public:

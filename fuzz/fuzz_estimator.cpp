@@ -4,6 +4,7 @@
 // in. Every estimate must be finite, or a fault with an infinite sigma: never NaN.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 
 #include "core/estimator.hpp"
@@ -73,6 +74,12 @@ extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t siz
     if (settings.method == Method::Auto && std::isnan(e.heading_sigma_deg)) __builtin_trap();
     if (std::isinf(e.heading_sigma_deg) && !e.fault) __builtin_trap();
   }
-  if (implausible(estimator.learned())) __builtin_trap();
+  if (const auto problem = implausible(estimator.learned())) {
+    const auto l = estimator.learned();
+    std::fprintf(stderr, "learned state refused by restore: %s (%g %g %g; last %g; fault %d; samples %llu)\n",
+                 problem->c_str(), l.bias_dps.x(), l.bias_dps.y(), l.bias_dps.z(), estimator.last().bias_dps.z(),
+                 estimator.fault(), (unsigned long long)estimator.samples());
+    __builtin_trap();
+  }
   return 0;
 }

@@ -60,9 +60,19 @@ run_case sigterm 0 5 run --simulated-chip still --sim-realtime
 awk -F, '/^[0-9]/ && $1 > 5 { exit } { print }' "$recording" >"$dir/gap.csv"
 awk -F, -v OFS=, '/^[0-9]/ && $1 > 5 { $1 = sprintf("%.6f", $1 + 10800); print }' "$recording" >>"$dir/gap.csv"
 run_case realtime-gap 0 7 run --recording "$dir/gap.csv" --speed realtime
-stop_ms=$(cat "$dir/realtime-gap/stop_ms")
-[ "$stop_ms" -le 1000 ] || fail "realtime-gap: exit took $stop_ms ms after SIGTERM"
-echo "ok: SIGTERM inside a 3 h gap of a realtime replay: exit after $stop_ms ms"
+# SIGTERM while the sensor has stopped answering (the driver is retrying its recoveries), and
+# within a third of a second of the start (DDS discovery under way): the must-show of issue 15
+# is an exit within 200 ms after the signal, state saved, /dev/shm clean.
+run_case sensor-stall 0 8 run --simulated-chip still --sim-realtime --sim-dead-after 6
+# (Stopped inside its start-up segment, a run keeps the state it started from rather than save an
+# unmeasured bias: this case starts from the sigterm case's state, so it has one to save.)
+mkdir -p "$dir/dds-discovery" && cp "$dir/sigterm/state" "$dir/dds-discovery/state"
+run_case dds-discovery 0 0.3 run --simulated-chip still --sim-realtime
+for name in sigterm realtime-gap sensor-stall dds-discovery; do
+  ms=$(cat "$dir/$name/stop_ms")
+  echo "SIGTERM $name: exit $ms ms after the signal"
+  [ "$ms" -le "${HEADINGD_STOP_LIMIT_MS:-200}" ] || fail "$name: exit took $ms ms after SIGTERM"
+done
 run_case output-error 73 0 run --recording "$recording" --speed max --output /dev/full --output-rate 0
 grep -q "cannot write /dev/full" "$dir/output-error/stderr" || fail "output-error: $(cat "$dir/output-error/stderr")"
 run_case sensor-death 74 0 run --simulated-chip still --sim-dead-after 20
