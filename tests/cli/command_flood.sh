@@ -18,7 +18,12 @@ n=10000
 printf '[dds]\ndomain_id = %d\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$domain" "$root" >"$dir/cfg.toml"
 "$headingd" run --simulated-chip still --sim-realtime --duration 16 -c "$dir/cfg.toml" -o /dev/null 2>"$dir/run.err" &
 run=$!
+# Meanwhile: echo --count 1 on three topics at once prints exactly one line (it printed two).
+"$headingd" echo orientation bias status --count 1 --timeout 15 -c "$dir/cfg.toml" >"$dir/echo.out" 2>"$dir/echo.err" &
+echo_pid=$!
 "$peer" bad-commands $domain $n 2000 >"$dir/peer.out" 2>&1 || fail "peer: $(cat "$dir/peer.out")"
+wait $echo_pid || fail "echo: $(cat "$dir/echo.err")"
+[ "$(wc -l <"$dir/echo.out")" -eq 1 ] || fail "echo --count 1 printed $(wc -l <"$dir/echo.out") lines"
 wait $run || fail "run: $(tail -3 "$dir/run.err")"
 refused=$(sed -n 's/.*commands \([0-9]*\) accepted, \([0-9]*\) refused.*/\2/p' "$dir/run.err")
 accepted=$(sed -n 's/.*commands \([0-9]*\) accepted, \([0-9]*\) refused.*/\1/p' "$dir/run.err")
