@@ -22,7 +22,7 @@ namespace {
 
 constexpr const char* kMagic = "# headingd state";
 constexpr int kVersion = 1;
-constexpr off_t kMaxStateBytes = 64 * 1024;  // ours are about 1 KiB
+constexpr off_t kMaxStateBytes = off_t{64} * 1024;  // ours are about 1 KiB
 
 // FNV-1a, 64 bit: enough to notice truncation and corruption (not an attack).
 std::uint64_t checksum(const std::string& text) {
