@@ -83,4 +83,11 @@ std::string LiveSource::header_comment() const {
   return text;
 }
 
+std::unique_ptr<Sensor> open_l3gd20h(const SensorOptions& options, const SensorHooks& hooks) {
+  auto sensor = std::make_unique<LiveSource>(options);
+  sensor->driver().set_stop_flag(hooks.stop);
+  if (hooks.log) sensor->driver().set_logger(hooks.log);
+  return sensor;
+}
+
 }  // namespace headingd::app

@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
                       "Use only the segments the auto estimator accepts as still (cuts out motion)");
 
   app::RunOptions run;
-  auto* run_cmd = cli.add_subcommand("run", "Read the L3GD20H and estimate heading, live");
+  auto* run_cmd = cli.add_subcommand("run", "Read the gyro ([sensor] kind: L3GD20H or IIO) and estimate heading, live");
   add_sensor_options(run_cmd, run.sensor);
   run_cmd->add_option("-c,--config", run.config_path, "TOML configuration file");
   run_cmd->add_option("--method", run.method, "Bias method: auto (default), or the paper's a, b, c");
@@ -99,11 +99,12 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--speed", run.speed, "With --recording: max, realtime, or a factor of real time")
       ->capture_default_str();
 
-  app::SensorOptions record_sensor;
+  app::RunOptions record;
   std::string record_output;
   double record_duration_s = 0.0;
-  auto* record_cmd = cli.add_subcommand("record", "Record what the L3GD20H delivers, as a CSV that replays");
-  add_sensor_options(record_cmd, record_sensor);
+  auto* record_cmd = cli.add_subcommand("record", "Record what the sensor delivers, as a CSV that replays");
+  add_sensor_options(record_cmd, record.sensor);
+  record_cmd->add_option("-c,--config", record.config_path, "TOML configuration file (its [sensor] section)");
   record_cmd->add_option("-o,--output", record_output, "Native CSV to write")->required();
   record_cmd->add_option("--duration", record_duration_s, "Stop after this many seconds (default: at SIGINT/SIGTERM)");
 
@@ -143,14 +144,20 @@ int main(int argc, char** argv) {
   if (simulate_cmd->parsed()) return app::run_simulate(simulate);
   if (score_cmd->parsed()) return app::run_score(score);
   if (allan_cmd->parsed()) return app::run_allan(allan);
-  if (run_cmd->parsed()) {
-    for (const auto* option : run_cmd->get_options())
+  const auto given = [](const CLI::App* cmd, app::RunOptions& options) {
+    for (const auto* option : cmd->get_options())
       if (option->count() > 0)
-        for (const auto& name : option->get_lnames()) run.sensor_given.insert("--" + name);
+        for (const auto& name : option->get_lnames()) options.sensor_given.insert("--" + name);
+  };
+  if (run_cmd->parsed()) {
+    given(run_cmd, run);
     return app::run_live(run);
   }
   if (echo_cmd->parsed()) return app::run_echo(echo);
   if (command_cmd->parsed()) return app::run_command(command);
-  if (record_cmd->parsed()) return app::run_record(record_sensor, record_output, record_duration_s);
+  if (record_cmd->parsed()) {
+    given(record_cmd, record);
+    return app::run_record(record, record_output, record_duration_s);
+  }
   return app::kExitUsage;
 }

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "app/job.hpp"
-#include "app/live_source.hpp"
+#include "app/sensor.hpp"
 #include "io/csv_replay.hpp"
 #include "pipeline/estimates_sink.hpp"
 #include "pipeline/pacer.hpp"
@@ -31,6 +31,7 @@ SensorOptions merged_sensor(const SensorOptions& file, const RunOptions& options
   if (given("--gpio-line")) s.gpio_line = cli.gpio_line;
   if (given("--int2-active-low")) s.int2_active_low = cli.int2_active_low;
   s.simulated_chip = cli.simulated_chip;
+  if (s.simulated_chip) s.kind = "l3gd20h";  // the simulator is an L3GD20H
   s.sim_seed = cli.sim_seed;
   s.sim_rate_error = cli.sim_rate_error;
   s.sim_realtime = cli.sim_realtime;
@@ -41,14 +42,14 @@ SensorOptions merged_sensor(const SensorOptions& file, const RunOptions& options
 }
 
 // The sensor, with the driver's warnings going to our log and SIGTERM ending its waits.
-std::unique_ptr<LiveSource> open_sensor(const SensorOptions& sensor) {
+std::unique_ptr<Sensor> open_live(const SensorOptions& sensor) {
   try {
-    auto source = std::make_unique<LiveSource>(sensor);
-    source->driver().set_stop_flag(&stop_flag());
-    source->driver().set_logger([](int priority, const std::string& key, const std::string& text) {
+    SensorHooks hooks;
+    hooks.stop = &stop_flag();
+    hooks.log = [](int priority, const std::string& key, const std::string& text) {
       log(static_cast<LogPriority>(priority), key, text);
-    });
-    return source;
+    };
+    return open_sensor(sensor, hooks);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "headingd: %s\n", error.what());
     return nullptr;
@@ -105,21 +106,38 @@ int run_live(const RunOptions& options) {
     return run_job(*recording, job);
   }
   job.speed_factor = 0.0;  // a sensor paces itself
-  auto sensor = open_sensor(merged_sensor(config.sensor, options));
+  const SensorOptions sensor_options = merged_sensor(config.sensor, options);
+  if (const auto unknown = unknown_sensor_kind(sensor_options.kind); !unknown.empty()) {
+    std::fprintf(stderr, "headingd: %s: %s\n", options.config_path.value_or("").c_str(), unknown.c_str());
+    return kExitConfig;
+  }
+  auto sensor = open_live(sensor_options);
   if (!sensor) return kExitNoInput;
   job.record_comments = sensor->header_comment();
-  return run_job(sensor->driver(), job);
+  return run_job(sensor->source(), job);
 }
 
-int run_record(const SensorOptions& sensor_options, const std::string& output, double duration_s) {
-  auto sensor = open_sensor(sensor_options);
+int run_record(const RunOptions& options, const std::string& output, double duration_s) {
+  Config config;
+  try {
+    if (options.config_path) config = load_config(*options.config_path);
+  } catch (const ConfigError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitConfig;
+  }
+  const SensorOptions sensor_options = merged_sensor(config.sensor, options);
+  if (const auto unknown = unknown_sensor_kind(sensor_options.kind); !unknown.empty()) {
+    std::fprintf(stderr, "headingd: %s: %s\n", options.config_path.value_or("").c_str(), unknown.c_str());
+    return kExitConfig;
+  }
+  auto sensor = open_live(sensor_options);
   if (!sensor) return kExitNoInput;
   JobOptions job;
   job.command = "record";
   job.record_path = output;
   job.record_comments = sensor->header_comment();
   job.duration_s = duration_s;
-  return run_job(sensor->driver(), job);
+  return run_job(sensor->source(), job);
 }
 
 }  // namespace headingd::app

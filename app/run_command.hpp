@@ -27,6 +27,7 @@ struct RunOptions {
 // speaking systemd's notify protocol, keeping its bias across restarts.
 int run_live(const RunOptions& options);
 // `headingd record`: what the sensor delivers, as a native CSV that replays.
-int run_record(const SensorOptions& sensor, const std::string& output, double duration_s);
+// `record`: the sensor from [sensor] of --config (if given) with the command line's options on top.
+int run_record(const RunOptions& options, const std::string& output, double duration_s);
 
 }  // namespace headingd::app

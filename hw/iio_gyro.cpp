@@ -147,7 +147,7 @@ void IioGyro::add(std::int64_t t_ns, const Eigen::Vector3d& rate_dps) {
   }
   last_ns_ = t_ns;
   core::Sample s;
-  s.t_s = static_cast<double>(t_ns) * 1e-9;
+  s.t_s = static_cast<double>(t_ns) / 1e9;  // correctly rounded: the same double a recording's 9 decimals parse to
   s.rate_dps = rate_dps;
   s.temp_c = temp_c_;
   pending_.push_back(s);

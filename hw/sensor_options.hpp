@@ -5,9 +5,14 @@
 #include <optional>
 #include <string>
 
+#include "hw/iio_device.hpp"
+
 namespace headingd::app {
 
 struct SensorOptions {
+  // Which sensor: "l3gd20h" (our own driver over i2c-dev) or "iio" (any gyro a Linux IIO driver owns).
+  std::string kind = "l3gd20h";
+  drivers::IioSettings iio;  // [sensor.iio]
   std::string bus = "/dev/i2c-1";
   int address = 0x6B;
   int rate_hz = 400;

@@ -65,6 +65,17 @@ CsvOut& CsvOut::number(double value, int decimals) {
   return *this;
 }
 
+CsvOut& CsvOut::exact(double value) {
+  if (!std::isfinite(value)) return number(value, 0);
+  reserve(kMaxFieldBytes + 1);
+  separator();
+  char* out = buffer_.data() + used_;
+  auto result = std::to_chars(out, out + kMaxFieldBytes, value, std::chars_format::fixed);
+  if (result.ec != std::errc{}) result = std::to_chars(out, out + kMaxFieldBytes, value);  // tiny: exponent form
+  used_ += static_cast<std::size_t>(result.ptr - out);
+  return *this;
+}
+
 CsvOut& CsvOut::integer(std::int64_t value) {
   reserve(kMaxFieldBytes + 1);
   separator();

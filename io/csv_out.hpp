@@ -31,6 +31,7 @@ class CsvOut {
 
   CsvOut& text(std::string_view value);
   CsvOut& number(double value, int decimals);  // fixed notation; NaN written as "nan"
+  CsvOut& exact(double value);                 // the shortest fixed text that reads back as the same double
   CsvOut& integer(std::int64_t value);
   void end_line();
   void line(std::string_view whole_line);  // a complete line, e.g. a header or comment

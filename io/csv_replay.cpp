@@ -145,7 +145,9 @@ void CsvReplaySource::parse_line(std::string_view line, core::Sample& sample) {
     t_s = number(time_column_);
     for (int axis = 0; axis < 3; ++axis) sample.rate_dps[axis] = number(rate_columns_[axis]);
   }
-  sample.temp_c = temp_column_ ? number(*temp_column_) : std::numeric_limits<double>::quiet_NaN();
+  // No temperature column, or an empty field (a sensor without one): unknown.
+  const bool no_temp = !temp_column_ || trim(fields_.items[*temp_column_]).empty();
+  sample.temp_c = no_temp ? std::numeric_limits<double>::quiet_NaN() : number(*temp_column_);
 
   if (samples_ > 0 && !(t_s > previous_t_s_)) {
     char text[96];

@@ -1,5 +1,7 @@
 #include "io/native_csv.hpp"
 
+#include <cmath>
+
 namespace headingd::app {
 
 RecordingWriter::RecordingWriter(const std::string& path, std::string_view comments, RecordingPrecision precision)
@@ -17,8 +19,14 @@ RecordingWriter::RecordingWriter(const std::string& path, std::string_view comme
 
 void RecordingWriter::add(const core::Sample& sample) {
   out_.number(sample.t_s, precision_.time_decimals);
-  for (int axis = 0; axis < 3; ++axis) out_.number(sample.rate_dps[axis], 5);
-  out_.number(sample.temp_c, precision_.temp_decimals);
+  // Exact: an L3GD20H's multiples of 8.75 mdps and an IIO gyro's raw * scale alike read back
+  // as the very doubles the estimator saw.
+  for (int axis = 0; axis < 3; ++axis) out_.exact(sample.rate_dps[axis]);
+  // A sensor without a temperature channel (many IIO gyros): an empty field, read back as unknown.
+  if (std::isnan(sample.temp_c))
+    out_.text("");
+  else
+    out_.number(sample.temp_c, precision_.temp_decimals);
   out_.end_line();
 }
 

@@ -16,8 +16,8 @@ inline constexpr std::string_view kNativeTimeColumn = "time_s";
 inline constexpr std::string_view kNativeRateColumns[3] = {"gx_dps", "gy_dps", "gz_dps"};
 inline constexpr std::string_view kNativeTempColumn = "temp_c";
 
-// How many decimals each column gets. The rates take 5: a multiple of the LSB (8.75 mdps)
-// exactly, so a replay parses the very doubles that were recorded.
+// How many decimals the time and temperature get. The rates are written exactly (the shortest
+// text of the double), so a replay parses the very values that were recorded.
 struct RecordingPrecision {
   int time_decimals = 9;  // the driver's nanoseconds
   int temp_decimals = 1;

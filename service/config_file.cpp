@@ -360,10 +360,45 @@ int sensor_value(const TableReader& r, const toml::node& node, const std::string
   return static_cast<int>(value);
 }
 
+void read_iio(const TableReader& r, drivers::IioSettings& s) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "device")
+          s.device = text_of(r.file(), node, key);
+        else if (name == "trigger")
+          s.trigger = text_of(r.file(), node, key);
+        else if (name == "sampling_frequency_hz")
+          s.sampling_frequency_hz = r.number(node, key, 0.0, 100000.0, false);
+        else if (name == "buffer_length")
+          s.buffer_length = static_cast<int>(r.integer(node, key, 2, 65536));
+        else if (name == "watermark")
+          s.watermark = static_cast<int>(r.integer(node, key, 1, 65536));
+        else if (name == "mount_matrix") {
+          s.mount = drivers::parse_mount_matrix(text_of(r.file(), node, key));
+          if (!s.mount)
+            fail(r.file(), node, key, "is " + shown(node) + ", expected \"x0, x1, x2; y0, y1, y2; z0, z1, z2\"");
+        } else if (name == "root")
+          s.root = text_of(r.file(), node, key);
+        else if (name == "give_up_s")
+          s.give_up_s = r.number(node, key, 0.0, 86400.0, false);
+        else
+          return false;
+        return true;
+      },
+      "device, trigger, sampling_frequency_hz, buffer_length, watermark, mount_matrix, root, give_up_s");
+  if (s.watermark > s.buffer_length)
+    throw ConfigError(r.file() + ": sensor.iio.watermark (" + std::to_string(s.watermark) +
+                      ") must not exceed sensor.iio.buffer_length (" + std::to_string(s.buffer_length) + ")");
+}
+
 void read_sensor(const TableReader& r, SensorOptions& s) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
-        if (name == "bus")
+        if (name == "kind")  // checked against the registered sensors (app/sensor.cpp) when one is opened
+          s.kind = text_of(r.file(), node, key);
+        else if (name == "iio")
+          read_iio(TableReader(r.file(), as_table(r.file(), node, key), key + "."), s.iio);
+        else if (name == "bus")
           s.bus = text_of(r.file(), node, key);
         else if (name == "address")
           s.address = sensor_value(r, node, key, drivers::address_not_allowed);
@@ -385,7 +420,8 @@ void read_sensor(const TableReader& r, SensorOptions& s) {
           return false;
         return true;
       },
-      "bus, address, rate_hz, bandwidth, full_scale_dps, watermark, gpio_chip, gpio_line, int2_active_low");
+      "kind, bus, address, rate_hz, bandwidth, full_scale_dps, watermark, gpio_chip, gpio_line, int2_active_low, "
+      "[sensor.iio]");
 }
 
 void read_state(const TableReader& r, Config& c) {

@@ -170,7 +170,7 @@ TEST_P(IioLayouts, DecodeToTheSimulatorsRatesWithTimeAndRate) {
   double worst_vs_truth = 0.0, lsb_dps = 0.0;
   for (std::size_t i = 0; i < kScans; ++i) {
     ASSERT_EQ(got[i].rate_dps, fed.expected[i]) << "scan " << i;  // exactly, after scale, offset and mount
-    ASSERT_EQ(got[i].t_s, static_cast<double>(fed.stamps[i]) * 1e-9) << "scan " << i;
+    ASSERT_EQ(got[i].t_s, static_cast<double>(fed.stamps[i]) / 1e9) << "scan " << i;
     worst_vs_truth = std::max(worst_vs_truth, (got[i].rate_dps - fed.truth[i]).cwiseAbs().maxCoeff());
   }
   lsb_dps = std::strtod(tree.get("in_anglvel_scale").c_str(), nullptr) * 180.0 / M_PI;
