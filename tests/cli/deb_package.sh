@@ -12,7 +12,8 @@ cpack -G DEB >/dev/null 2>&1 || fail "cpack"
 deb=$(ls headingd_*.deb)
 listing=$(dpkg-deb -c "$deb")
 for f in ./usr/bin/headingd ./usr/lib/systemd/system/headingd.service ./usr/lib/udev/rules.d/99-headingd.rules \
-         ./etc/headingd/headingd.toml ./usr/share/doc/headingd/README.md; do
+         ./etc/headingd/headingd.toml ./usr/share/doc/headingd/README.md ./usr/lib/headingd/iio-permissions \
+         ./usr/share/headingd/headingd-iio.conf; do
   grep -q " $f\$" <<<"$listing" || fail "package lacks $f"
 done
 dpkg-deb -I "$deb" conffiles | grep -q '^/etc/headingd/headingd.toml$' || fail "config is not a conffile"
@@ -21,11 +22,12 @@ echo "ok: $deb holds binary, unit, udev rule, conffile, docs"
 dpkg -i "$deb" >/dev/null 2>&1 || fail "dpkg -i: $(dpkg -i "$deb" 2>&1 | tail -3)"
 /usr/bin/headingd --version | grep -q 0.1.0 || fail "installed binary does not run"
 getent passwd headingd >/dev/null || fail "no headingd user"
-id -nG headingd | grep -qw i2c && id -nG headingd | grep -qw gpio || fail "headingd not in i2c and gpio: $(id -nG headingd)"
+for g in i2c gpio iio; do id -nG headingd | grep -qw $g || fail "headingd not in $g: $(id -nG headingd)"; done
+[ -x /usr/lib/headingd/iio-permissions ] || fail "the udev helper is not executable"
 /usr/bin/headingd replay --no-dds /usr/share/doc/headingd/README.md -q -o /dev/null 2>/dev/null; [ $? -eq 65 ] || fail "installed replay"
 out=$(/usr/bin/headingd run -c /etc/headingd/headingd.toml --no-dds --duration 1 2>&1); [ $? -eq 66 ] && grep -q "/dev/i2c-1" <<<"$out" ||
   fail "installed run with the shipped config: $out"
-echo "ok: installed; user headingd in i2c and gpio; the shipped config loads and names the missing /dev/i2c-1"
+echo "ok: installed; user headingd in i2c, gpio and iio; the shipped config loads and names the missing /dev/i2c-1"
 
 dpkg -r headingd >/dev/null 2>&1 || fail "dpkg -r"
 [ ! -e /usr/bin/headingd ] || fail "binary left after remove"

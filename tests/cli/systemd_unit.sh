@@ -25,3 +25,13 @@ echo "ok: exposure $score <= 2.0"
 grep -q 'MODE="0660"' "$root/config/99-headingd.rules" && ! grep -v '^#' "$root/config/99-headingd.rules" | grep -q '0666' ||
   { echo "FAIL: udev rule modes"; exit 1; }
 echo "ok: udev rules give 0660 to groups i2c and gpio"
+grep -q '^SUBSYSTEM=="iio", KERNEL=="iio:device\[0-9\]\*", GROUP="iio", MODE="0660"' "$root/config/99-headingd.rules" ||
+  { echo "FAIL: no udev rule for IIO devices"; exit 1; }
+# The IIO drop-in: the unit with it still verifies, and only ProtectKernelTunables changes.
+mkdir -p "$dir/iio" && cat "$dir/headingd.service" "$root/systemd/headingd-iio.conf" >"$dir/iio/headingd.service"
+out=$(systemd-analyze verify "$dir/iio/headingd.service" 2>&1)
+problems=$(grep -v -E "man:headingd|Failed to resolve|Unit configured to use|^$" <<<"$out")
+[ -z "$problems" ] || { echo "FAIL: verify with the IIO drop-in: $problems"; exit 1; }
+iio_score=$(systemd-analyze security --offline=yes "$dir/iio/headingd.service" 2>&1 |
+  sed -n 's/.*Overall exposure level for headingd.service: \([0-9.]*\).*/\1/p')
+echo "ok: with the IIO drop-in the unit verifies; exposure $iio_score (without: $score)"
