@@ -20,10 +20,10 @@ struct IioSettings {
   // "iio:deviceN", a device name ("l3gd20h", "bmi160"), or an of_node compatible ("st,l3gd20h-gyro");
   // empty: the one device that has angular-velocity channels.
   std::string device;
-  std::string trigger;                   // empty: keep the current one, else the device's own
-  double sampling_frequency_hz = 0.0;    // 0: keep the device's; else the nearest it offers
-  int buffer_length = 256;               // scans the kernel buffer holds (about 0.6 s at 400 Hz)
-  int watermark = 8;                     // scans per wake-up where the kernel supports it
+  std::string trigger;                 // empty: keep the current one, else the device's own
+  double sampling_frequency_hz = 0.0;  // 0: keep the device's; else the nearest it offers
+  int buffer_length = 256;             // scans the kernel buffer holds (about 0.6 s at 400 Hz)
+  int watermark = 16;  // scans per wake-up where the kernel supports it: 42 ms at 380 Hz, as the L3GD20H
   std::optional<Eigen::Matrix3d> mount;  // overrides the device's mount matrix
   double give_up_s = 30.0;               // gone this long: the sensor is taken for dead
 };

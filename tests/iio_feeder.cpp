@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   drivers::FakeIioWriter writer(tree);
   const double rate_hz = scenario->noise.rate_hz;
   const std::size_t bytes = tree.layout().scan_bytes();
-  constexpr std::size_t kBurst = 8;  // the default [sensor.iio] watermark
+  constexpr std::size_t kBurst = 16;  // the default [sensor.iio] watermark
   std::vector<std::uint8_t> burst;
   const auto start = std::chrono::steady_clock::now();
   for (std::uint64_t i = 0; !sim.done(); ++i) {
