@@ -320,7 +320,16 @@ IioBinding bind_iio_device(const IioSettings& settings) {
   if (!frequency.empty()) b.sampling_frequency_hz = number_of(required(frequency, "sampling frequency"), frequency);
 
   if (exists(b.sysfs_dir + "/trigger/current_trigger")) {
-    b.trigger = pick_trigger(settings, settings.root + "/sys/bus/iio/devices", b.sysfs_dir, b.name);
+    const std::string devices = settings.root + "/sys/bus/iio/devices";
+    b.trigger = pick_trigger(settings, devices, b.sysfs_dir, b.name);
+    // An hrtimer trigger has its own sampling_frequency: it must tick at the device's rate.
+    for (const auto& e : entries(devices))
+      if (e.rfind("trigger", 0) == 0 && read_attribute(devices + "/" + e + "/name") == b.trigger &&
+          exists(devices + "/" + e + "/sampling_frequency") && b.sampling_frequency_hz > 0) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", b.sampling_frequency_hz);
+        write_attribute(devices + "/" + e + "/sampling_frequency", text);
+      }
     write_attribute(b.sysfs_dir + "/trigger/current_trigger", b.trigger);
   }
   write_attribute(b.buffer_dir + "/length", std::to_string(settings.buffer_length));

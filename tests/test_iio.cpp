@@ -343,7 +343,18 @@ TEST(IioGyro, ErrorsSayWhatToDo) {
   s.device = "iio:device0";
   EXPECT_EQ(error_of(s), "no error");
 
+  // An hrtimer trigger the operator made: chosen by name and set to tick at the device's rate.
+  std::filesystem::create_directories(s.root + "/sys/bus/iio/devices/trigger5");
+  std::ofstream(s.root + "/sys/bus/iio/devices/trigger5/name") << "headingd\n";
+  std::ofstream(s.root + "/sys/bus/iio/devices/trigger5/sampling_frequency") << "100\n";
+  s.trigger = "headingd";
+  EXPECT_EQ(error_of(s), "no error");
+  EXPECT_EQ(drivers::read_attribute(s.root + "/sys/bus/iio/devices/trigger5/sampling_frequency"), "380");
+  EXPECT_EQ(tree.get("trigger/current_trigger"), "headingd");
+  std::filesystem::remove_all(s.root + "/sys/bus/iio/devices/trigger5");
+
   s.trigger = "hrtimer7";
+  tree.set("trigger/current_trigger", "");
   EXPECT_NE(error_of(s).find("no IIO trigger named 'hrtimer7' (have: l3gd20h-trigger); an hrtimer trigger is made "
                              "with: mkdir /sys/kernel/config/iio/triggers/hrtimer/hrtimer7"),
             std::string::npos)
