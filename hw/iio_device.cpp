@@ -273,6 +273,7 @@ IioBinding bind_iio_device(const IioSettings& settings) {
     write_attribute(scan_dir + "/" + e, on ? "1" : "0");
   }
   std::vector<iio::ScanChannel> channels;
+  channels.reserve(wanted.size());
   for (const auto& w : wanted) channels.push_back(channel_of(scan_dir, w));
   try {
     b.layout = iio::ScanLayout(std::move(channels));

@@ -6,7 +6,7 @@ HEADINGD_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # Debian packages the build, the tests and the benchmarks need.
 HEADINGD_PACKAGES=(
   cmake ninja-build g++ pkg-config
-  libeigen3-dev libcli11-dev libtomlplusplus-dev libgpiod-dev libsystemd-dev
+  libeigen3-dev libcli11-dev libtomlplusplus-dev libgpiod-dev libsystemd-dev libzstd-dev zlib1g-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev
   gnuplot-nox
