@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "io/compressed_file.hpp"
+
 namespace headingd::app {
 namespace {
 constexpr std::size_t kBufferBytes = 1 << 20;
@@ -17,6 +19,10 @@ CsvOut::CsvOut(std::string path) : path_(std::move(path)), buffer_(kBufferBytes)
   } else {
     file_ = std::fopen(path_.c_str(), "wb");
     if (file_ == nullptr) throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));
+    if (drivers::wants_zstd(path_)) {  // "x.csv.zst": compressed as it is written
+      file_ = drivers::zstd_writer(file_);
+      if (file_ == nullptr) throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));
+    }
     owns_file_ = true;
   }
 }
@@ -105,6 +111,14 @@ void CsvOut::flush() {
     throw OutputError("cannot write " + path_ + ": " + std::strerror(error));
   }
   used_ = 0;
+}
+
+void CsvOut::push() {
+  flush();
+  if (file_ != nullptr && std::fflush(file_) != 0) {
+    if (errno == EPIPE) throw OutputClosed(path_ + ": the reader closed it");
+    throw OutputError("cannot write " + path_ + ": " + std::strerror(errno));
+  }
 }
 
 void CsvOut::close() {

@@ -36,6 +36,7 @@ class CsvOut {
   void end_line();
   void line(std::string_view whole_line);  // a complete line, e.g. a header or comment
   void flush();
+  void push();   // flush, and hand the bytes to the system (a crash after it loses none of them)
   void close();  // flushes; throws if anything could not be written
   const std::string& path() const { return path_; }
 

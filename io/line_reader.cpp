@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "io/compressed_file.hpp"
 #include "io/input_error.hpp"
 
 namespace headingd::drivers {
@@ -23,7 +24,7 @@ void refuse_directory(std::FILE* file, const std::string& path) {
 }  // namespace
 
 LineReader::LineReader(std::string path) : path_(std::move(path)), buffer_(kMaxLineBytes) {
-  file_ = std::fopen(path_.c_str(), "rb");
+  file_ = open_for_reading(path_);  // zstd and gzip decompressed, by magic number
   if (file_ == nullptr) throw OpenError("cannot open " + path_ + ": " + std::strerror(errno));
   refuse_directory(file_, path_);
 }
@@ -31,6 +32,8 @@ LineReader::LineReader(std::string path) : path_(std::move(path)), buffer_(kMaxL
 LineReader::LineReader(std::FILE* file, std::string name)
     : path_(std::move(name)), file_(file), buffer_(kMaxLineBytes) {
   if (file_ == nullptr) throw OpenError("cannot read " + path_ + ": no stream");
+  file_ = decompressing(file_);
+  if (file_ == nullptr) throw OpenError("cannot read " + path_ + ": " + std::strerror(errno));
   refuse_directory(file_, path_);
 }
 
@@ -73,7 +76,11 @@ bool LineReader::next(std::string_view& line) {
     const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_);
     end_ += got;
     if (got == 0) {
-      if (std::ferror(file_) != 0) fail(std::string("read error: ") + std::strerror(errno));
+      if (std::ferror(file_) != 0) {
+        const std::string why = decompression_error();
+        ++line_number_;  // the line it was reading
+        fail(why.empty() ? std::string("read error: ") + std::strerror(errno) : why);
+      }
       eof_ = true;
     }
   }

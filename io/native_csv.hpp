@@ -30,7 +30,8 @@ class RecordingWriter {
   void add(const core::Sample& sample);
   // A '#' line after the samples (e.g. the counters at the end of a recording).
   void comment(std::string_view line);
-  void close();  // flushes; throws OutputError
+  void push() { out_.push(); }  // what was added is on disk (a .zst as complete blocks)
+  void close();                 // flushes; throws OutputError
   const std::string& path() const { return out_.path(); }
 
  private:

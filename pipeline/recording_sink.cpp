@@ -10,6 +10,15 @@ RecordingSink::RecordingSink(const std::string& path, const std::string& comment
 void RecordingSink::add(const core::Sample& sample, const core::Estimate& /*estimate*/,
                         const core::Estimator& /*estimator*/) {
   writer_.add(sample);
+  // Once a wall-clock second: a crash loses at most that much of the recording.
+  if (++since_check_ >= 64) {
+    since_check_ = 0;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_push_ >= std::chrono::seconds(1)) {
+      writer_.push();
+      last_push_ = now;
+    }
+  }
 }
 
 void RecordingSink::finish(const core::Estimator& /*estimator*/, const core::SampleSource& source) {

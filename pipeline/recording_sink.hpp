@@ -1,6 +1,7 @@
 #pragma once
 // Records what the source delivered (`run --record`, `record`) as a native CSV that replays to
 // the very same estimates.
+#include <chrono>
 #include <string>
 
 #include "io/native_csv.hpp"
@@ -19,6 +20,8 @@ class RecordingSink final : public Sink {
 
  private:
   app::RecordingWriter writer_;
+  unsigned since_check_ = 0;
+  std::chrono::steady_clock::time_point last_push_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace headingd::pipeline
