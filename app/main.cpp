@@ -8,6 +8,7 @@
 #include "service/exit_codes.hpp"
 #include "tools/allan_command.hpp"
 #include "tools/echo_command.hpp"
+#include "tools/plot_command.hpp"
 #include "tools/score_command.hpp"
 #include "tools/simulate_command.hpp"
 
@@ -60,6 +61,10 @@ int main(int argc, char** argv) {
   replay_cmd->add_option("--linger", replay.linger_s,
                          "Stay this many seconds after the end (late joiners get the latest)");
 
+  std::string replay_plot;
+  replay_cmd->add_option("--plot", replay_plot,
+                         "Then draw the estimates with `plot` to this .png/.svg (needs -o FILE)");
+
   app::SimulateOptions simulate;
   auto* simulate_cmd = cli.add_subcommand("simulate", "Simulate a gyro recording with its truth");
   simulate_cmd->add_option("--scenario", simulate.scenario, "paper12h, still, agv, creep or thermal")->required();
@@ -74,6 +79,13 @@ int main(int argc, char** argv) {
   score_cmd->add_option("--label", score.label, "Row label")->capture_default_str();
   score_cmd->add_option("--errors", score.errors_output, "Write time_h,error_deg at 1 Hz to this file");
   score_cmd->add_flag("--header", score.header, "Print the table header first");
+
+  app::PlotOptions plot;
+  auto* plot_cmd = cli.add_subcommand("plot", "Draw heading (+-2 sigma), error against a truth, bias and temperature");
+  plot_cmd->add_option("estimates", plot.estimates, "Estimates CSV from replay or run")->required();
+  plot_cmd->add_option("--truth", plot.truth, "truth.csv from simulate: the truth and the error");
+  plot_cmd->add_option("--recording", plot.recording, "The recording: the sensor temperature");
+  plot_cmd->add_option("-o,--output", plot.output, "Picture to write: .png or .svg")->required();
 
   app::AllanOptions allan;
   auto* allan_cmd = cli.add_subcommand("allan", "Allan deviation of a still recording; noise terms for the config");
@@ -140,8 +152,17 @@ int main(int argc, char** argv) {
     return app::kExitUsage;
   }
 
-  if (replay_cmd->parsed()) return app::run_replay(replay);
+  if (replay_cmd->parsed()) {
+    if (!replay_plot.empty() && replay.output == "-") {
+      std::fprintf(stderr, "headingd: replay --plot needs the estimates in a file: add -o FILE\n");
+      return app::kExitUsage;
+    }
+    const int code = app::run_replay(replay);
+    if (code != app::kExitOk || replay_plot.empty()) return code;
+    return app::run_plot({replay.output, std::nullopt, replay.input, replay_plot});
+  }
   if (simulate_cmd->parsed()) return app::run_simulate(simulate);
+  if (plot_cmd->parsed()) return app::run_plot(plot);
   if (score_cmd->parsed()) return app::run_score(score);
   if (allan_cmd->parsed()) return app::run_allan(allan);
   const auto given = [](const CLI::App* cmd, app::RunOptions& options) {

@@ -10,3 +10,26 @@ data="$HEADINGD_ROOT/build/bench/paper12h-s1"
 [ -f "$data/imu.csv" ] || "$bin/app/headingd" simulate --scenario paper12h --seed 1 --output-dir "$data"
 echo "file: $(grep -vc '^#' "$data/imu.csv") lines, $(du -h "$data/imu.csv" | cut -f1)"
 "$bin/bench/replay_throughput" "$data/imu.csv"
+
+# The same recording compressed (zstd -3 and gzip -6, by the reference programs): byte-identical
+# estimates, and the replay time beside the plain file's (median of 3 each, one run).
+[ -f "$data/imu.csv.zst" ] || zstd -q -3 -T0 "$data/imu.csv" -o "$data/imu.csv.zst"
+[ -f "$data/imu.csv.gz" ] || gzip -c "$data/imu.csv" >"$data/imu.csv.gz"
+echo "compressed: $(du -h "$data/imu.csv.zst" | cut -f1) as .zst, $(du -h "$data/imu.csv.gz" | cut -f1) as .gz"
+replay_seconds() {  # file output -> median wall seconds of 3 replays
+  local times=()
+  for _ in 1 2 3; do
+    local start end
+    start=$(date +%s.%N)
+    "$bin/app/headingd" replay --no-dds --quiet "$1" -o "$2"
+    end=$(date +%s.%N)
+    times+=("$(echo "$end - $start" | bc)")
+  done
+  printf '%s\n' "${times[@]}" | sort -n | sed -n 2p
+}
+plain_s=$(replay_seconds "$data/imu.csv" "$data/plain.est")
+zst_s=$(replay_seconds "$data/imu.csv.zst" "$data/zst.est")
+gz_s=$(replay_seconds "$data/imu.csv.gz" "$data/gz.est")
+cmp -s "$data/plain.est" "$data/zst.est" && cmp -s "$data/plain.est" "$data/gz.est" && same=identical || same=DIFFERENT
+printf 'replay of the 12 h file (median of 3): plain %.2f s, .zst %.2f s (%.2fx), .gz %.2f s (%.2fx); estimates %s\n' \
+  "$plain_s" "$zst_s" "$(echo "$zst_s / $plain_s" | bc -l)" "$gz_s" "$(echo "$gz_s / $plain_s" | bc -l)" "$same"

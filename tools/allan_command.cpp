@@ -24,6 +24,7 @@
 #include "service/exit_codes.hpp"
 #include "service/input_errors.hpp"
 #include "service/standard_output.hpp"
+#include "tools/gnuplot.hpp"
 
 namespace headingd::app {
 namespace {
@@ -101,75 +102,28 @@ Recording read_recording(drivers::CsvReplaySource& source, bool still_only) {
   return rec;
 }
 
-// Draws the curves with gnuplot in a private directory (mkdtemp) where every name is fixed, so the
-// script holds no string of the user's (neither the input's name nor the output path), then
-// writes the picture to `path` ourselves (write_file_atomically). Empty when drawn, else why not.
+// Draws the curves with gnuplot (tools/gnuplot: data in a private directory under fixed names,
+// the script ours, the picture written to `path` by us). Empty when drawn, else why not.
 std::optional<std::string> draw_plot(const std::string& path, const std::vector<int>& axes,
                                      const std::array<std::vector<core::AllanPoint>, 3>& curves) {
-  std::string pattern = (std::filesystem::temp_directory_path() / "headingd-allan-XXXXXX").string();
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  if (::mkdtemp(name.data()) == nullptr) return std::string("cannot make a private temporary directory");
-  const std::filesystem::path work = name.data();
-  struct Cleanup {
-    std::filesystem::path dir;
-    ~Cleanup() {
-      std::error_code ignored;
-      std::filesystem::remove_all(dir, ignored);
+  std::string data;
+  char line[64];
+  for (int a : axes) {
+    for (const auto& p : curves[static_cast<std::size_t>(a)]) {
+      std::snprintf(line, sizeof line, "%.9g %.9g\n", p.tau_s, p.deviation);
+      data += line;
     }
-  } cleanup{work};
-  {
-    const int fd = ::open((work / "allan.dat").c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
-    std::FILE* f = fd >= 0 ? ::fdopen(fd, "w") : nullptr;
-    if (f == nullptr) return std::string("cannot write the plot data");
-    for (int a : axes) {
-      for (const auto& p : curves[static_cast<std::size_t>(a)]) std::fprintf(f, "%.9g %.9g\n", p.tau_s, p.deviation);
-      std::fprintf(f, "\n\n");
-    }
-    if (std::fclose(f) != 0) return std::string("cannot write the plot data");
+    data += "\n\n";
   }
-  int script[2];
-  if (::pipe2(script, O_CLOEXEC) != 0) return std::string("cannot start gnuplot");
-  const pid_t child = ::fork();
-  if (child < 0) return std::string("cannot start gnuplot");
-  if (child == 0) {  // gnuplot reads the script on stdin, in the private directory
-    if (::chdir(work.c_str()) != 0 || ::dup2(script[0], STDIN_FILENO) < 0) ::_exit(126);
-    ::execlp("gnuplot", "gnuplot", static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  ::close(script[0]);
-  std::signal(SIGPIPE, SIG_IGN);  // gnuplot may stop reading early: an error, not a death
-  std::FILE* gp = ::fdopen(script[1], "w");
-  if (gp != nullptr) {
-    std::fprintf(gp,
-                 "set terminal pngcairo size 800,560 font ',10'\nset output 'allan.png'\nset logscale xy\n"
-                 "set grid xtics ytics mxtics mytics\nset xlabel 'cluster time tau [s]'\n"
-                 "set ylabel 'Allan deviation [deg/s]'\nset title 'Allan deviation'\nplot ");
-    for (std::size_t i = 0; i < axes.size(); ++i) {
-      std::fprintf(gp, "%s'allan.dat' index %zu with linespoints pt 7 ps 0.5 title '%s'", i ? ", " : "", i,
-                   kAxisNames[axes[i]]);
-    }
-    std::fprintf(gp, "\n");
-    std::fclose(gp);
-  } else {
-    ::close(script[1]);
-  }
-  int status = 0;
-  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    return std::string(WIFEXITED(status) && WEXITSTATUS(status) == 127
-                           ? "gnuplot is not installed (apt-get install gnuplot-nox)"
-                           : "gnuplot failed");
-  std::ifstream png(work / "allan.png", std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(png)), std::istreambuf_iterator<char>());
-  if (bytes.empty()) return std::string("gnuplot drew nothing");
-  try {
-    write_file_atomically(path, bytes);
-  } catch (const OutputError& error) {
-    return std::string(error.what());
-  }
-  return std::nullopt;
+  std::string script =
+      "set terminal pngcairo size 800,560 font ',10'\nset output 'allan.png'\nset logscale xy\n"
+      "set grid xtics ytics mxtics mytics\nset xlabel 'cluster time tau [s]'\n"
+      "set ylabel 'Allan deviation [deg/s]'\nset title 'Allan deviation'\nplot ";
+  for (std::size_t i = 0; i < axes.size(); ++i)
+    script += std::string(i ? ", " : "") + "'allan.dat' index " + std::to_string(i) +
+              " with linespoints pt 7 ps 0.5 title '" + kAxisNames[axes[i]] + "'";
+  script += "\n";
+  return draw_with_gnuplot({{"allan.dat", data}}, script, "allan.png", path);
 }
 
 }  // namespace

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# `plot` draws a PNG (or SVG) of a replay with its truth and recording: the file is a real PNG of
+# the promised size; a name built to break out of a gnuplot script is only a name; `replay
+# --plot` does the same in one command; bad inputs are errors that name them.
+set -uo pipefail
+headingd="$1"
+dir="$(mktemp -d)"
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+cd "$dir" || exit 1
+
+"$headingd" simulate --scenario thermal --seed 2 --hours 0.1 --output-dir sim >/dev/null 2>&1 || fail "simulate"
+"$headingd" replay --no-dds sim/imu.csv -o est.csv --quiet || fail "replay"
+"$headingd" plot est.csv --truth sim/truth.csv --recording sim/imu.csv -o out.png 2>err || fail "plot: $(cat err)"
+# PNG: the signature, then IHDR with width and height (big-endian) at bytes 16..23.
+[ "$(head -c 8 out.png | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "not a PNG"
+width=$(od -An -tu4 --endian=big -j16 -N4 out.png | tr -d ' ')
+height=$(od -An -tu4 --endian=big -j20 -N4 out.png | tr -d ' ')
+size=$(stat -c %s out.png)
+[ "$width" -eq 1200 ] && [ "$height" -eq 900 ] && [ "$size" -gt 20000 ] || fail "PNG ${width}x${height}, $size bytes"
+echo "ok: plot with truth and recording: PNG ${width}x${height}, $size bytes"
+
+"$headingd" plot est.csv -o out.svg 2>err || fail "svg: $(cat err)"
+grep -q '<svg' out.svg && grep -q 'width="1200"' out.svg || fail "not a 1200-wide SVG"
+echo "ok: SVG without truth (two panels)"
+
+# A name made to close a gnuplot string and run a command: written as a name, nothing runs.
+evil="x';system 'touch pwned';print '\$(touch pwned2).png"
+"$headingd" plot est.csv -o "$evil" 2>err || fail "hostile name: $(cat err)"
+[ -s "$evil" ] && [ ! -e pwned ] && [ ! -e pwned2 ] || fail "the hostile name was not just a name: $(ls)"
+ln -s "$dir/victim" link.png
+"$headingd" plot est.csv -o link.png 2>err || fail "plot over a link: $(cat err)"
+[ ! -e victim ] && [ ! -L link.png ] || fail "the picture was written through a planted link"
+echo "ok: a hostile output name is only a name; a planted link is replaced, not followed"
+
+"$headingd" replay --no-dds sim/imu.csv -o est2.csv --quiet --plot replay.png || fail "replay --plot"
+[ "$(head -c 4 replay.png | od -An -tx1 | tr -d ' \n')" = 89504e47 ] || fail "replay --plot drew no PNG"
+echo "ok: replay --plot"
+
+out=$("$headingd" plot est.csv -o out.jpg 2>&1); rc=$?
+[ "$rc" -eq 64 ] && grep -q "must end in .png or .svg" <<<"$out" || fail "bad extension: exit $rc: $out"
+out=$("$headingd" plot sim/truth.csv -o x.png 2>&1); rc=$?
+[ "$rc" -eq 65 ] && grep -q "truth.csv:.*header lacks 'heading_sigma_deg'" <<<"$out" || fail "wrong input: exit $rc: $out"
+out=$("$headingd" replay --no-dds sim/imu.csv --plot x.png 2>&1); rc=$?
+[ "$rc" -eq 64 ] && grep -q "needs the estimates in a file" <<<"$out" || fail "replay --plot without -o: exit $rc: $out"
+echo "ok: errors: bad extension 64, not an estimates file 65 (naming it), replay --plot without -o 64"
