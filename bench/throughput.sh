@@ -23,7 +23,7 @@ replay_seconds() {  # file output -> median wall seconds of 3 replays
     start=$(date +%s.%N)
     "$bin/app/headingd" replay --no-dds --quiet "$1" -o "$2"
     end=$(date +%s.%N)
-    times+=("$(echo "$end - $start" | bc)")
+    times+=("$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.3f", b - a }')")
   done
   printf '%s\n' "${times[@]}" | sort -n | sed -n 2p
 }
@@ -31,5 +31,6 @@ plain_s=$(replay_seconds "$data/imu.csv" "$data/plain.est")
 zst_s=$(replay_seconds "$data/imu.csv.zst" "$data/zst.est")
 gz_s=$(replay_seconds "$data/imu.csv.gz" "$data/gz.est")
 cmp -s "$data/plain.est" "$data/zst.est" && cmp -s "$data/plain.est" "$data/gz.est" && same=identical || same=DIFFERENT
-printf 'replay of the 12 h file (median of 3): plain %.2f s, .zst %.2f s (%.2fx), .gz %.2f s (%.2fx); estimates %s\n' \
-  "$plain_s" "$zst_s" "$(echo "$zst_s / $plain_s" | bc -l)" "$gz_s" "$(echo "$gz_s / $plain_s" | bc -l)" "$same"
+awk -v p="$plain_s" -v z="$zst_s" -v g="$gz_s" -v same="$same" 'BEGIN {
+  printf "replay of the 12 h file (median of 3): plain %.2f s, .zst %.2f s (%.2fx), .gz %.2f s (%.2fx); estimates %s\n",
+    p, z, z / p, g, g / p, same }'

@@ -1,5 +1,6 @@
-// libFuzzer target: the recording reader (native CSV and EuRoC, told apart by the header) on
-// arbitrary bytes. Any input must end in samples or an InputError, never a crash or a hang.
+// libFuzzer target: the recording reader (native CSV and EuRoC, told apart by the header; plain,
+// zstd or gzip, told apart by the magic number) on arbitrary bytes. Any input must end in samples
+// or an InputError, never a crash or a hang.
 #include <cstdio>
 #include <vector>
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs one libFuzzer target until it has used CPU_SECONDS of CPU time (not wall time: the machine is shared,
-# and "an hour of fuzzing" means an hour of the fuzzer's own work). Findings and the grown corpus stay in
+# and "an hour of fuzzing" means an hour of the fuzzer's own work). Never SIGSTOP a running fuzzer: its
+# per-input -timeout is wall time, and a pause longer than that is reported as a timeout. Findings and the grown corpus stay in
 # WORKDIR. Usage: scripts/fuzz-cpu.sh BUILD_FUZZ_DIR TARGET CORPUS_NAME CPU_SECONDS WORKDIR
 set -euo pipefail
 build=$1 target=$2 corpus=$3 budget=$4 work=$5
@@ -13,11 +14,15 @@ nice -n 10 "$build/fuzz/$target" -timeout=10 -rss_limit_mb=2048 -print_final_sta
 pid=$!
 ticks=$(getconf CLK_TCK)
 cpu_seconds() { awk -v t="$ticks" '{print int(($14 + $15) / t)}' "/proc/$1/stat" 2>/dev/null || echo -1; }
+used=0
 while kill -0 "$pid" 2>/dev/null; do
-  used=$(cpu_seconds "$pid")
+  now=$(cpu_seconds "$pid")
+  [ "$now" -ge 0 ] && used=$now
   if [ "$used" -ge "$budget" ]; then kill -INT "$pid"; break; fi
   sleep 5
 done
 status=0
 wait "$pid" || status=$?
-echo "$target/$corpus: cpu_seconds>=$budget exit=$status artifacts=$(ls "artifacts-$corpus" | wc -l)" | tee -a summary.txt
+# libFuzzer exits 0 when stopped by SIGINT after printing its final stats; anything else is a finding.
+echo "$target/$corpus: cpu_seconds=$used of $budget, exit=$status, artifacts=$(ls "artifacts-$corpus" | wc -l)" |
+  tee -a summary.txt
