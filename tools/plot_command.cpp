@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "io/csv_replay.hpp"
 #include "io/line_reader.hpp"
 #include "service/exit_codes.hpp"
 #include "service/input_errors.hpp"
@@ -72,9 +73,18 @@ int run_plot(const PlotOptions& options) {
           score_heading(read_columns(options.estimates, "time_s", "heading_deg"), TimeSeries{truth[0], truth[1]},
                         &errors);
         }
-        if (options.recording) {
+        if (options.recording) {  // any recording replay reads (native or EuRoC, plain or compressed)
           const std::size_t rec_every = std::max<std::size_t>(1, data_rows(*options.recording) / kMaxPoints);
-          rec = read_table(*options.recording, {"time_s", "temp_c"}, {rec_every, true});
+          drivers::CsvReplaySource source(*options.recording);
+          std::vector<core::Sample> batch(4096);
+          rec.assign(2, {});
+          std::size_t n = 0;
+          while (const std::size_t got = source.read(batch))
+            for (std::size_t i = 0; i < got; ++i)
+              if (n++ % rec_every == 0) {
+                rec[0].push_back(batch[i].t_s);
+                rec[1].push_back(batch[i].temp_c);
+              }
         }
       }))
     return code;
@@ -122,7 +132,8 @@ int run_plot(const PlotOptions& options) {
   std::string s = svg ? "set terminal svg size 1200," : "set terminal pngcairo size 1200,";
   s += std::to_string(panels * 300) + " font ',10'\nset encoding utf8\n";
   s += svg ? "set output 'plot.svg'\n" : "set output 'plot.png'\n";
-  s += "set multiplot layout " + std::to_string(panels) + ",1\nset grid\nset key outside right top\n";
+  s += "set multiplot layout " + std::to_string(panels) +
+       ",1\nset grid\nset key outside right top\nset autoscale xfix\n";
   s += "set xlabel '" + std::string(x.label) + "'\nset lmargin 12\nset rmargin 22\n";
   const bool has_still = !still.empty();
   // 1. Heading, its band, the truth, the still segments behind.
