@@ -1,7 +1,9 @@
 // headingd: one binary, one subcommand per job. Each subcommand's work lives in its own
 // *_command.cpp; this file only parses the command line and dispatches.
 #include <CLI/CLI.hpp>
+#include <filesystem>
 
+#include "app/batch_replay.hpp"
 #include "app/replay_command.hpp"
 #include "app/run_command.hpp"
 #include "core/version.hpp"
@@ -46,7 +48,18 @@ int main(int argc, char** argv) {
 
   app::ReplayOptions replay;
   auto* replay_cmd = cli.add_subcommand("replay", "Replay a recorded IMU file through the estimator");
-  replay_cmd->add_option("input", replay.input, "Recording: headingd CSV or EuRoC/ASL imu.csv")->required();
+  std::vector<std::string> replay_inputs;
+  replay_cmd
+      ->add_option("input", replay_inputs,
+                   "Recording(s): headingd CSV or EuRoC/ASL imu.csv, plain, .zst or .gz; several, or a directory: "
+                   "each on its own, one summary table")
+      ->required();
+  app::BatchOptions batch;
+  auto* jobs_option = replay_cmd->add_option("--jobs", batch.jobs, "With several recordings: how many at once");
+  auto* output_dir_option =
+      replay_cmd->add_option("--output-dir", batch.output_dir, "With several recordings: estimates go here");
+  auto* summary_option =
+      replay_cmd->add_option("--summary-csv", batch.summary_csv, "With several recordings: the table as CSV too");
   replay_cmd->add_option("--method", replay.method, "Bias method: auto (default), or the paper's a, b, c");
   replay_cmd->add_option("-o,--output", replay.output, "Estimates CSV ('-' = standard output)");
   replay_cmd->add_option("--output-rate", replay.output_rate_hz, "Rows per second; 0 = every sample")
@@ -153,6 +166,21 @@ int main(int argc, char** argv) {
   }
 
   if (replay_cmd->parsed()) {
+    const bool many = replay_inputs.size() > 1 || std::filesystem::is_directory(replay_inputs.front()) ||
+                      jobs_option->count() > 0 || output_dir_option->count() > 0 || summary_option->count() > 0;
+    if (many) {
+      if (!replay_plot.empty() || replay.output != "-") {
+        std::fprintf(
+            stderr,
+            "headingd: with several recordings, -o and --plot do not apply (see --output-dir); nothing is published\n");
+        return app::kExitUsage;
+      }
+      batch.inputs = replay_inputs;
+      batch.output_rate_hz = replay.output_rate_hz;
+      if (const int code = app::batch_settings(replay.config_path, replay.method, batch.settings)) return code;
+      return app::run_batch_replay(batch);
+    }
+    replay.input = replay_inputs.front();
     if (!replay_plot.empty() && replay.output == "-") {
       std::fprintf(stderr, "headingd: replay --plot needs the estimates in a file: add -o FILE\n");
       return app::kExitUsage;

@@ -1,0 +1,230 @@
+#include "app/batch_replay.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <thread>
+
+#include "io/csv_out.hpp"
+#include "io/csv_replay.hpp"
+#include "io/input_error.hpp"
+#include "io/line_reader.hpp"
+#include "pipeline/estimates_sink.hpp"
+#include "pipeline/pipeline.hpp"
+#include "service/config_file.hpp"
+#include "service/exit_codes.hpp"
+#include "service/signals.hpp"
+
+namespace headingd::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool is_recording_name(const std::string& name) {
+  for (const char* ending : {".csv", ".csv.zst", ".csv.gz"}) {
+    const std::string e = ending;
+    if (name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0 &&
+        name.find(".estimates.") == std::string::npos)
+      return true;
+  }
+  return false;
+}
+
+// The bias z over the run, from the first accepted still segment on (before it, it is the start value).
+class BiasRange final : public pipeline::BatchSink {
+ public:
+  void batch_done(const core::Estimator& estimator, const core::SampleSource& /*source*/) override {
+    if (estimator.diagnostics().accepted_segments == 0) return;
+    const double z = estimator.last().bias_dps.z();
+    low = std::min(low, z);
+    high = std::max(high, z);
+  }
+  double low = std::numeric_limits<double>::infinity(), high = -std::numeric_limits<double>::infinity();
+};
+
+struct Row {
+  std::string file, output;
+  double hours = 0.0;
+  std::uint64_t samples = 0, still = 0;
+  double sigma_deg = std::nan(""), bias_z = std::nan(""), bias_low = std::nan(""), bias_high = std::nan("");
+  std::string warnings;
+  int code = kExitOk;
+};
+
+Row replay_one(const std::string& input, const std::string& output, const BatchOptions& options) {
+  Row row;
+  row.file = input;
+  row.output = output;
+  try {
+    drivers::CsvReplaySource source(input);
+    pipeline::PipelineOptions pipeline_options;
+    pipeline_options.batch = 4096;
+    pipeline_options.stop = &stop_flag();
+    pipeline::Pipeline line(source, std::make_unique<core::Estimator>(options.settings), pipeline_options);
+    pipeline::EstimatesSink estimates(output, options.output_rate_hz, 0.0, options.settings.segments.segment_s);
+    BiasRange range;
+    line.add_sink(estimates);
+    line.add_sink(range);
+    const pipeline::Outcome outcome = line.run();
+    const core::Diagnostics d = line.estimator().diagnostics();
+    row.samples = outcome.samples;
+    row.hours = (outcome.last_t_s - outcome.first_t_s) / 3600.0;
+    row.still = d.accepted_segments;
+    row.sigma_deg = line.estimator().last().heading_sigma_deg;
+    row.bias_z = line.estimator().last().bias_dps.z();
+    if (std::isfinite(range.low)) row.bias_low = range.low, row.bias_high = range.high;
+    std::vector<std::string> notes;
+    if (outcome.ending != pipeline::Ending::EndOfInput)
+      notes.push_back(outcome.error.empty() ? pipeline::ending_name(outcome.ending) : outcome.error);
+    if (d.accepted_segments == 0) notes.push_back("no still segment: bias never measured");
+    if (d.bias_recoveries > 0) notes.push_back(std::to_string(d.bias_recoveries) + " bias recoveries");
+    if (outcome.estimator_fault) notes.push_back("estimator fault");
+    for (const auto& n : notes) row.warnings += (row.warnings.empty() ? "" : "; ") + n;
+    if (outcome.ending == pipeline::Ending::BadInput) row.code = kExitDataError;
+    if (outcome.ending == pipeline::Ending::OutputFailed) row.code = kExitCantCreate;
+  } catch (const drivers::OpenError& error) {
+    row.warnings = error.what();
+    row.code = kExitNoInput;
+  } catch (const drivers::InputError& error) {
+    row.warnings = error.what();
+    row.code = kExitDataError;
+  } catch (const OutputError& error) {
+    row.warnings = error.what();
+    row.code = kExitCantCreate;
+  }
+  return row;
+}
+
+// One RFC 4180 field: quoted, quotes doubled, so a name with a comma or a newline stays one field.
+std::string quoted(const std::string& text) {
+  std::string field = "\"";
+  for (const char c : text) field += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return field + "\"";
+}
+
+std::string number(double value, const char* format) {
+  if (!std::isfinite(value)) return "-";
+  char text[32];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+}  // namespace
+
+std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs) {
+  std::vector<std::string> files;
+  for (const auto& input : inputs) {
+    std::error_code error;
+    if (fs::is_directory(input, error)) {
+      std::vector<std::string> found;
+      for (const auto& entry : fs::directory_iterator(input, error))
+        if (entry.is_regular_file() && is_recording_name(entry.path().filename().string()))
+          found.push_back(entry.path().string());
+      if (error) {
+        std::fprintf(stderr, "headingd: cannot list %s: %s\n", input.c_str(), error.message().c_str());
+        return {};
+      }
+      std::sort(found.begin(), found.end());
+      files.insert(files.end(), found.begin(), found.end());
+    } else if (fs::exists(input, error)) {
+      files.push_back(input);
+    } else {
+      std::fprintf(stderr, "headingd: cannot open %s: No such file or directory\n", input.c_str());
+      return {};
+    }
+  }
+  return files;
+}
+
+std::string estimates_path_for(const std::string& input, const std::optional<std::string>& output_dir) {
+  const fs::path path(input);
+  std::string name = path.filename().string();
+  for (const char* ending : {".zst", ".gz", ".csv"}) {
+    const std::string e = ending;
+    if (name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0)
+      name.resize(name.size() - e.size());
+  }
+  return ((output_dir ? fs::path(*output_dir) : path.parent_path()) / (name + ".estimates.csv")).string();
+}
+
+int batch_settings(const std::optional<std::string>& config_path, const std::optional<std::string>& method,
+                   core::EstimatorSettings& settings) {
+  try {
+    if (config_path) settings = load_config(*config_path).estimator;
+  } catch (const ConfigError& error) {
+    std::fprintf(stderr, "headingd: %s\n", error.what());
+    return kExitConfig;
+  }
+  return apply_method_option(method, settings) ? 0 : kExitUsage;
+}
+
+int run_batch_replay(const BatchOptions& options) {
+  const std::vector<std::string> files = expand_inputs(options.inputs);
+  if (files.empty()) {
+    if (!options.inputs.empty()) return kExitNoInput;
+    std::fprintf(stderr, "headingd: replay: no recordings\n");
+    return kExitNoInput;
+  }
+  // Two recordings writing one estimates file would be a silent loss: refuse before starting.
+  std::map<std::string, std::string> outputs;
+  for (const auto& f : files) {
+    const std::string out = estimates_path_for(f, options.output_dir);
+    if (const auto [it, fresh] = outputs.emplace(out, f); !fresh) {
+      std::fprintf(stderr, "headingd: %s and %s would both write %s; give distinct names or no --output-dir\n",
+                   it->second.c_str(), f.c_str(), out.c_str());
+      return kExitUsage;
+    }
+  }
+  install_stop_signals();
+  std::vector<Row> rows(files.size());
+  std::atomic<std::size_t> next{0};
+  const auto work = [&] {
+    for (std::size_t i = next++; i < files.size() && !stop_flag().load(); i = next++)
+      rows[i] = replay_one(files[i], estimates_path_for(files[i], options.output_dir), options);
+  };
+  std::vector<std::thread> workers;
+  const unsigned jobs = std::clamp<unsigned>(options.jobs, 1, static_cast<unsigned>(files.size()));
+  for (unsigned j = 1; j < jobs; ++j) workers.emplace_back(work);
+  work();
+  for (auto& w : workers) w.join();
+
+  std::printf("%-40s %8s %10s %6s %9s %10s %21s  %s\n", "file", "hours", "samples", "still", "sigma_deg", "bias_z_dps",
+              "bias_z_range_dps", "warnings");
+  int code = kExitOk;
+  for (const auto& r : rows) {
+    std::printf("%-40s %8s %10llu %6llu %9s %10s %21s  %s\n", drivers::printable(r.file, 200).c_str(),
+                number(r.hours, "%.3f").c_str(), static_cast<unsigned long long>(r.samples),
+                static_cast<unsigned long long>(r.still), number(r.sigma_deg, "%.3f").c_str(),
+                number(r.bias_z, "%+.4f").c_str(),
+                (number(r.bias_low, "%+.4f") + ".." + number(r.bias_high, "%+.4f")).c_str(),
+                r.warnings.empty() ? "-" : drivers::printable(r.warnings, 300).c_str());
+    if (code == kExitOk && r.code != kExitOk) code = r.code;
+  }
+  std::fflush(stdout);
+  if (options.summary_csv) {
+    try {
+      CsvOut csv(*options.summary_csv);
+      csv.line(
+          "file,estimates,hours,samples,still_segments,heading_sigma_deg,bias_z_dps,bias_z_min_dps,bias_z_max_dps,"
+          "warnings");
+      for (const auto& r : rows) {
+        csv.text(quoted(r.file)).text(quoted(r.output)).number(r.hours, 6);
+        csv.integer(static_cast<std::int64_t>(r.samples));
+        csv.integer(static_cast<std::int64_t>(r.still)).number(r.sigma_deg, 6).number(r.bias_z, 6);
+        csv.number(r.bias_low, 6).number(r.bias_high, 6).text(quoted(r.warnings));
+        csv.end_line();
+      }
+      csv.close();
+    } catch (const OutputError& error) {
+      std::fprintf(stderr, "headingd: %s\n", error.what());
+      return kExitCantCreate;
+    }
+  }
+  return code;
+}
+
+}  // namespace headingd::app

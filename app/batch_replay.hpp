@@ -1,0 +1,37 @@
+#pragma once
+// `replay A.csv B.csv.zst DIR/ --jobs N`: many recordings, each on its own (its own estimator,
+// its own estimates file), in parallel, and one summary table at the end — a fleet's logs
+// re-processed in one command.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/estimator.hpp"
+
+namespace headingd::app {
+
+struct BatchOptions {
+  std::vector<std::string> inputs;  // files, or directories (their *.csv, *.csv.zst, *.csv.gz)
+  unsigned jobs = 1;
+  std::optional<std::string> output_dir;   // estimates go here; default: beside each recording
+  std::optional<std::string> summary_csv;  // the table as CSV too
+  core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
+  double output_rate_hz = 10.0;
+};
+
+// The recordings `inputs` names, in order, directories expanded (sorted); empty after saying
+// why on stderr when one is missing or unreadable.
+std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs);
+
+// Where a recording's estimates go: <dir>/<name without .zst/.gz/.csv>.estimates.csv.
+std::string estimates_path_for(const std::string& input, const std::optional<std::string>& output_dir);
+
+// The estimator settings from --config and --method; 0, or the exit code after saying why.
+int batch_settings(const std::optional<std::string>& config_path, const std::optional<std::string>& method,
+                   core::EstimatorSettings& settings);
+
+// Replays them all; prints the table on stdout. Exit 0 when every replay ended well, else the
+// first failure's code (every recording is still replayed).
+int run_batch_replay(const BatchOptions& options);
+
+}  // namespace headingd::app

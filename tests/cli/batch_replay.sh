@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# `replay` over many recordings (files, a directory, compressed ones) with --jobs 2: every row of
+# the table equals what the single-file replay of that recording reports, the estimates files equal
+# the single replay's byte for byte, a damaged recording is a row with its error (exit 65) while
+# the others are done, and two recordings that would write one file are refused before starting.
+set -uo pipefail
+headingd="$1"
+dir="$(mktemp -d)"
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+cd "$dir" || exit 1
+mkdir fleet
+for i in 1 2 3 4 5; do
+  "$headingd" simulate --scenario agv --seed "$i" --hours 0.05 --output-dir "s$i" >/dev/null 2>&1 || fail "simulate $i"
+  mv "s$i/imu.csv" "fleet/vehicle$i.csv"
+done
+zstd -q --rm fleet/vehicle4.csv && gzip fleet/vehicle5.csv
+"$headingd" simulate --scenario creep --seed 9 --hours 0.05 --output-dir s6 >/dev/null 2>&1 && cp s6/imu.csv extra.csv
+
+"$headingd" replay fleet extra.csv --jobs 2 --summary-csv table.csv >table.txt 2>err || fail "batch: $(cat err)"
+[ "$(grep -c '^"' table.csv)" -eq 6 ] || fail "expected 6 rows: $(cat table.csv)"
+for f in fleet/vehicle1.csv fleet/vehicle2.csv fleet/vehicle3.csv fleet/vehicle4.csv.zst fleet/vehicle5.csv.gz extra.csv; do
+  "$headingd" replay --no-dds "$f" -o single.csv 2>single.log || fail "single replay of $f"
+  samples=$(sed -n 's/^  samples      \([0-9]*\) over.*/\1/p' single.log)
+  still=$(sed -n 's/.*: \([0-9]*\) accepted as still.*/\1/p' single.log)
+  sigma=$(sed -n 's/.*sigma \([0-9.]*\) deg$/\1/p' single.log)
+  bias_z=$(sed -n 's/^  bias .* z \([-+0-9.]*\) dps$/\1/p' single.log)
+  row=$(grep "^$f " table.txt) || fail "no row for $f: $(cat table.txt)"
+  read -r _ _ r_samples r_still r_sigma r_bias _ <<<"$row"
+  [ "$r_samples $r_still $r_sigma $r_bias" = "$samples $still $sigma $bias_z" ] ||
+    fail "$f: table '$r_samples $r_still $r_sigma $r_bias', single replay '$samples $still $sigma $bias_z'"
+  out=$(sed -n "s|^\"$f\",\"\([^\"]*\)\".*|\1|p" table.csv)
+  cmp -s single.csv "$out" || fail "$f: $out differs from the single replay's estimates"
+done
+echo "ok: 6 recordings (plain, .zst, .gz, a directory and a file) with --jobs 2: every row and estimates file equal the single replay's"
+cat table.txt
+
+# A damaged recording: its row says why, the others are done, exit 65.
+head -c 100000 extra.csv >fleet/broken.csv
+"$headingd" replay fleet --jobs 2 >table2.txt 2>err; rc=$?
+[ "$rc" -eq 65 ] && grep -q "^fleet/broken.csv .*the last line has no newline" table2.txt &&
+  [ "$(grep -c '^fleet/vehicle' table2.txt)" -eq 5 ] || fail "damaged recording: exit $rc: $(cat table2.txt err)"
+echo "ok: a truncated recording is a row with its error, the five others done, exit 65"
+
+mkdir other && cp fleet/vehicle1.csv other/
+out=$("$headingd" replay fleet/vehicle1.csv other/vehicle1.csv --output-dir outs 2>&1); rc=$?
+[ "$rc" -eq 64 ] && grep -q "would both write outs/vehicle1.estimates.csv" <<<"$out" || fail "collision: exit $rc: $out"
+[ ! -e outs/vehicle1.estimates.csv ] || fail "something was written despite the collision"
+out=$("$headingd" replay fleet missing.csv 2>&1); rc=$?
+[ "$rc" -eq 66 ] && grep -q "missing.csv" <<<"$out" || fail "missing input: exit $rc: $out"
+echo "ok: colliding outputs refused (64) before any work; a missing input 66"
