@@ -179,6 +179,14 @@ int run_batch_replay(const BatchOptions& options) {
       return kExitUsage;
     }
   }
+  if (options.output_dir) {
+    std::error_code error;
+    fs::create_directories(*options.output_dir, error);
+    if (error) {
+      std::fprintf(stderr, "headingd: cannot create %s: %s\n", options.output_dir->c_str(), error.message().c_str());
+      return kExitCantCreate;
+    }
+  }
   install_stop_signals();
   std::vector<Row> rows(files.size());
   std::atomic<std::size_t> next{0};

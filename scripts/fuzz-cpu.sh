@@ -4,6 +4,12 @@
 # per-input -timeout is wall time, and a pause longer than that is reported as a timeout. Findings and the grown corpus stay in
 # WORKDIR. Usage: scripts/fuzz-cpu.sh BUILD_FUZZ_DIR TARGET CORPUS_NAME CPU_SECONDS WORKDIR
 set -euo pipefail
+# With autogroup scheduling (Debian's default) nice only ranks tasks within one session: started
+# without a terminal (setsid, nohup) it lowers its own session to nice 19, so builds and benchmarks
+# keep the cores.
+if [ "$(cat /proc/sys/kernel/sched_autogroup_enabled 2>/dev/null)" = 1 ] && ! tty -s; then
+  echo 19 >/proc/self/autogroup 2>/dev/null || true
+fi
 build=$1 target=$2 corpus=$3 budget=$4 work=$5
 src=$(cd "$(dirname "$0")/.." && pwd)/fuzz/corpus/$corpus
 mkdir -p "$work/corpus-$corpus" "$work/artifacts-$corpus"

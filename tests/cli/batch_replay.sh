@@ -18,6 +18,8 @@ zstd -q --rm fleet/vehicle4.csv && gzip fleet/vehicle5.csv
 "$headingd" simulate --scenario creep --seed 9 --hours 0.05 --output-dir s6 >/dev/null 2>&1 && cp s6/imu.csv extra.csv
 
 "$headingd" replay fleet extra.csv --jobs 2 --summary-csv table.csv >table.txt 2>err || fail "batch: $(cat err)"
+"$headingd" replay fleet --output-dir new/dir >/dev/null 2>err && [ -s new/dir/vehicle1.estimates.csv ] ||
+  fail "--output-dir that does not exist yet: $(cat err)"
 [ "$(grep -c '^"' table.csv)" -eq 6 ] || fail "expected 6 rows: $(cat table.csv)"
 for f in fleet/vehicle1.csv fleet/vehicle2.csv fleet/vehicle3.csv fleet/vehicle4.csv.zst fleet/vehicle5.csv.gz extra.csv; do
   "$headingd" replay --no-dds "$f" -o single.csv 2>single.log || fail "single replay of $f"
