@@ -29,6 +29,6 @@ while kill -0 "$pid" 2>/dev/null; do
 done
 status=0
 wait "$pid" || status=$?
-# libFuzzer exits 0 when stopped by SIGINT after printing its final stats; anything else is a finding.
+# libFuzzer exits 72 when SIGINT stops it (after its final stats); a finding leaves an artifact and another code.
 echo "$target/$corpus: cpu_seconds=$used of $budget, exit=$status, artifacts=$(ls "artifacts-$corpus" | wc -l)" |
   tee -a summary.txt
