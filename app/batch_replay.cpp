@@ -128,6 +128,10 @@ std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs) {
         std::fprintf(stderr, "headingd: cannot list %s: %s\n", input.c_str(), error.message().c_str());
         return {};
       }
+      if (found.empty()) {
+        std::fprintf(stderr, "headingd: no recordings (*.csv, *.csv.zst, *.csv.gz) in %s\n", input.c_str());
+        return {};
+      }
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else if (fs::exists(input, error)) {
@@ -189,6 +193,10 @@ int run_batch_replay(const BatchOptions& options) {
   }
   install_stop_signals();
   std::vector<Row> rows(files.size());
+  for (std::size_t i = 0; i < files.size(); ++i) {  // what a signal leaves undone says so
+    rows[i].file = files[i];
+    rows[i].warnings = "not replayed: stopped by a signal";
+  }
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
     for (std::size_t i = next++; i < files.size() && !stop_flag().load(); i = next++)

@@ -5,6 +5,7 @@
 #include <syslog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -14,8 +15,8 @@
 namespace headingd::drivers {
 namespace {
 
-constexpr int kPollMs = 100;                        // every wait wakes this often to see the stop flag
-constexpr auto kSilence = std::chrono::seconds(2);  // no scan this long: the device is taken as gone
+constexpr int kPollMs = 100;       // every wait wakes this often to see the stop flag
+constexpr double kSilenceS = 2.0;  // no scan this long (or 4 watermarks, if longer): the device is taken as gone
 constexpr auto kRetryEvery = std::chrono::milliseconds(100);
 constexpr std::size_t kScansPerRead = 64;
 constexpr double kGapPeriods = 1.5;  // a timestamp step over 1.5 periods means scans were dropped
@@ -180,7 +181,13 @@ bool IioGyro::fill() {
     return false;
   }
   if (ready == 0) {
-    if (Clock::now() - last_data_ > kSilence) went_away("no scan for 2 s");
+    // A slow device with a deep watermark may be quiet for long between wake-ups: allow four of them.
+    const double silence_s = std::max(kSilenceS, 4.0 * settings_.watermark * period_ns_ * 1e-9);
+    if (Clock::now() - last_data_ > std::chrono::duration<double>(silence_s)) {
+      char why[64];
+      std::snprintf(why, sizeof why, "no scan for %.1f s", silence_s);
+      went_away(why);
+    }
     return false;
   }
   ++counters_.wakeups;

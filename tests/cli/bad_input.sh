@@ -94,7 +94,11 @@ expect score-truncated 65 "$dir/trunc.csv:3: the last line has no newline" -- sc
 expect replay-truncated 65 "$dir/trunc-rec.csv:3: the last line has no newline" -- replay --no-dds "$dir/trunc-rec.csv" -o "$dir/o.csv"
 expect score-time-order 65 "$dir/order.csv:4: time does not advance" -- score "$dir/order.csv" "$dir/bom.csv"
 expect score-directory 66 "cannot read $dir: it is a directory" -- score "$dir" "$dir/bom.csv"
-expect replay-directory 66 "cannot read $dir: it is a directory" -- replay --no-dds "$dir" -o "$dir/o.csv"
+# A directory is a fleet of recordings to replay (each to its own file): -o cannot name one output.
+expect replay-directory 64 "with several recordings, -o and --plot do not apply" -- replay --no-dds "$dir" -o "$dir/o.csv"
+mkdir "$dir/empty"
+expect replay-empty-directory 66 "no recordings (*.csv, *.csv.zst, *.csv.gz) in $dir/empty" -- replay --no-dds "$dir/empty"
+expect run-recording-directory 66 "cannot read $dir: it is a directory" -- run --no-dds --recording "$dir"
 expect control-bytes-escaped 65 'found: t\x1b[31mime,x' -- replay --no-dds "$dir/ctl.csv" -o "$dir/o.csv"
 if "$headingd" score "$dir/bom.csv" "$dir/bom.csv" >/dev/null 2>&1 && "$headingd" replay --no-dds "$dir/bom-rec.csv" -o /dev/null 2>/dev/null; then
   echo "ok   bom-accepted: a UTF-8 byte-order mark before the header is skipped"
