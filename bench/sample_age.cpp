@@ -143,11 +143,12 @@ void measure(int watermark, const std::string& profiles) {
 // One watermark per process: Fast DDS does not survive a fork after a participant existed, so
 // bench/sample_age.sh runs this once per watermark.
 int main(int argc, char** argv) {
-  const int watermark = argc > 1 ? std::atoi(argv[1]) : 16;
-  if (watermark < 1 || watermark > 30) {
+  char* end = nullptr;
+  const long watermark = argc > 1 ? std::strtol(argv[1], &end, 10) : 16;
+  if (watermark < 1 || watermark > 30 || (argc > 1 && *end != '\0')) {
     std::fprintf(stderr, "usage: sample_age WATERMARK(1..30) [PROFILES_XML]\n");
     return 64;
   }
-  measure(watermark, argc > 2 ? argv[2] : "");
+  measure(static_cast<int>(watermark), argc > 2 ? argv[2] : "");
   return 0;
 }
