@@ -15,6 +15,7 @@
 #include "pipeline/estimates_sink.hpp"
 #include "pipeline/pacer.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/progress_sink.hpp"
 #include "pipeline/recording_sink.hpp"
 #include "pipeline/service_sink.hpp"
 #include "pipeline/state_sink.hpp"
@@ -178,6 +179,9 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
   if (options.state_path) pipeline.add_sink(state.emplace(*options.state_path, options.state_save_interval_s));
   pipeline::ServiceSink service(notifier);
   pipeline.add_sink(service);
+  std::optional<pipeline::ProgressSink> progress;
+  if (options.progress && !options.quiet && pipeline::ProgressSink::wanted())
+    pipeline.add_sink(progress.emplace(options.progress));
   pipeline.set_reloader([&options](const core::Estimator& running) { return reload(options, running); });
 
   const auto started = std::chrono::steady_clock::now();

@@ -2,6 +2,7 @@
 // What `run`, `replay` and `record` share once their source is open: the pipeline with its
 // sinks, built in start-up order, run, taken down in reverse, summarised. The commands differ
 // only in the source they open and the defaults they give these options.
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -12,6 +13,8 @@
 namespace headingd::app {
 
 struct JobOptions {
+  // For a recording: how much of it has been read (a progress line on a terminal); unset for a sensor.
+  std::function<std::optional<double>()> progress;
   std::string command;  // names the summary: "run", "replay", "record"
   core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
   std::optional<std::string> input_path;  // the recording read, if any: never written to

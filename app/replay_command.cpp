@@ -40,6 +40,7 @@ int run_replay(const ReplayOptions& options) {
   job.wait_subscribers_s = options.wait_subscribers_s;
   job.linger_s = options.linger_s;
   job.quiet = options.quiet;
+  job.progress = [&source] { return source->fraction_read(); };
   return run_job(*source, job);
 }
 

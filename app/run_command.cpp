@@ -103,6 +103,7 @@ int run_live(const RunOptions& options) {
     job.batch = 4096;
     job.record_comments = comments_of(*recording);
     job.input_path = *options.recording;
+    job.progress = [&recording] { return recording->fraction_read(); };
     return run_job(*recording, job);
   }
   job.speed_factor = 0.0;  // a sensor paces itself

@@ -36,6 +36,7 @@ class CsvReplaySource final : public core::SampleSource {
   core::SourceHealth health() const override;
 
   Format format() const { return format_; }
+  std::optional<double> fraction_read() const { return lines_.fraction_read(); }
   bool has_temperature() const { return temp_column_.has_value(); }
   // The '#' comment lines before the header (provenance), without the '#'.
   const std::vector<std::string>& comments() const { return comments_; }

@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -27,6 +28,9 @@ LineReader::LineReader(std::string path) : path_(std::move(path)), buffer_(kMaxL
   file_ = open_for_reading(path_);  // zstd and gzip decompressed, by magic number
   if (file_ == nullptr) throw OpenError("cannot open " + path_ + ": " + std::strerror(errno));
   refuse_directory(file_, path_);
+  struct stat info {};
+  if (::fileno(file_) >= 0 && ::fstat(::fileno(file_), &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0)
+    size_bytes_ = static_cast<std::int64_t>(info.st_size);  // a plain file (a decompressing stream has no fd)
 }
 
 LineReader::LineReader(std::FILE* file, std::string name)
@@ -44,6 +48,14 @@ void LineReader::close() {
     std::fclose(file_);
     file_ = nullptr;
   }
+}
+
+std::optional<double> LineReader::fraction_read() const {
+  if (size_bytes_ <= 0 || file_ == nullptr) return std::nullopt;
+  const long position = std::ftell(file_);
+  if (position < 0) return std::nullopt;
+  const auto taken = static_cast<double>(position) - static_cast<double>(end_ - begin_);
+  return std::clamp(taken / static_cast<double>(size_bytes_), 0.0, 1.0);
 }
 
 void LineReader::fail(std::string problem) const { throw InputError(path_, line_number_, std::move(problem)); }

@@ -5,6 +5,7 @@
 // still being written), and a directory refused at open as what it is.
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,6 +30,9 @@ class LineReader {
   std::uint64_t line_number() const { return line_number_; }
   const std::string& path() const { return path_; }
   bool is_open() const { return file_ != nullptr; }
+  // How much of a plain file has been taken, 0..1; nothing for a stream or a compressed file
+  // (whose uncompressed size is not known up front).
+  std::optional<double> fraction_read() const;
   void close();
   // An InputError at the current line.
   [[noreturn]] void fail(std::string problem) const;
@@ -41,6 +45,7 @@ class LineReader {
   std::size_t end_ = 0;
   bool eof_ = false;
   std::uint64_t line_number_ = 0;
+  std::int64_t size_bytes_ = -1;  // a plain regular file's size, else -1
 };
 
 // Text from a file for an error message: control and non-ASCII bytes as \xHH, at most
