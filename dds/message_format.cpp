@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "dds/message_line.hpp"
+#include "dds/status_report.hpp"
 #include "dds/wire_method.hpp"
 
 namespace headingd::app {
@@ -24,20 +25,18 @@ MessageLine started(const char* topic, double stamp_s, bool json) {
   return line;
 }
 
+// The wire's SensorState has our StatusReport's order (dds/status_report.hpp), so one name table serves both.
+static_assert(static_cast<int>(SensorState::SENSOR_STARTING) == static_cast<int>(app::SensorState::Starting) &&
+              static_cast<int>(SensorState::SENSOR_OK) == static_cast<int>(app::SensorState::Ok) &&
+              static_cast<int>(SensorState::SENSOR_DEGRADED) == static_cast<int>(app::SensorState::Degraded) &&
+              static_cast<int>(SensorState::SENSOR_FAILED) == static_cast<int>(app::SensorState::Failed) &&
+              static_cast<int>(SensorState::SENSOR_REPLAY) == static_cast<int>(app::SensorState::Replay));
+
 const char* name_of(SensorState state) {
-  switch (state) {
-    case SensorState::SENSOR_STARTING:
-      return "starting";
-    case SensorState::SENSOR_OK:
-      return "ok";
-    case SensorState::SENSOR_DEGRADED:
-      return "degraded";
-    case SensorState::SENSOR_FAILED:
-      return "failed";
-    case SensorState::SENSOR_REPLAY:
-      return "replay";
-  }
-  return "unknown";
+  const int value = static_cast<int>(state);
+  return value >= 0 && value <= static_cast<int>(app::SensorState::Replay)
+             ? sensor_state_name(static_cast<app::SensorState>(value))
+             : "unknown";  // a newer peer's state we do not know
 }
 
 const char* name_of(CommandKind kind) {

@@ -17,22 +17,6 @@ std::string number(double value) {
 
 std::string vector(const core::Vec3& v) { return number(v.x()) + " " + number(v.y()) + " " + number(v.z()); }
 
-const char* state_name(SensorState state) {
-  switch (state) {
-    case SensorState::Starting:
-      return "starting";
-    case SensorState::Ok:
-      return "ok";
-    case SensorState::Degraded:
-      return "degraded";
-    case SensorState::Failed:
-      return "failed";
-    case SensorState::Replay:
-      return "replay";
-  }
-  return "unknown";
-}
-
 // The node's name with its namespace, as diagnostic_updater prefixes its tasks: /diagnostics
 // is one topic for the whole fleet.
 std::string qualified_node(const RosSettings& ros) {
@@ -58,7 +42,7 @@ DiagnosticEntry DiagnosticsBuilder::sensor(const core::Estimate& e, const Status
   DiagnosticEntry entry;
   entry.name = qualified_node(ros_) + ": sensor";
   entry.hardware_id = ros_.hardware_id;
-  entry.message = r.state == SensorState::Replay ? "replaying a recording" : state_name(r.state);
+  entry.message = r.state == SensorState::Replay ? "replaying a recording" : sensor_state_name(r.state);
   const std::uint64_t faults = r.bus_errors + r.fifo_overruns + r.samples_dropped + r.recoveries;
   if (faults > faults_seen_) last_fault_t_s_ = e.t_s;
   const std::uint64_t new_faults = faults - std::min(faults, faults_seen_);
@@ -77,7 +61,7 @@ DiagnosticEntry DiagnosticsBuilder::sensor(const core::Estimate& e, const Status
       std::abs(r.sample_rate_hz / r.nominal_rate_hz - 1.0) > kRateTolerance)
     raise(entry, DiagnosticLevel::Warn,
           "output rate " + number(r.sample_rate_hz) + " Hz, nominal " + number(r.nominal_rate_hz) + " Hz");
-  entry.values = {{"state", state_name(r.state)},
+  entry.values = {{"state", sensor_state_name(r.state)},
                   {"rate_hz", number(r.sample_rate_hz)},
                   {"nominal_rate_hz", number(r.nominal_rate_hz)},
                   {"samples", std::to_string(r.samples_received)},

@@ -7,6 +7,23 @@ namespace headingd::app {
 // SensorState in the IDL, in its order.
 enum class SensorState : int { Starting = 0, Ok = 1, Degraded = 2, Failed = 3, Replay = 4 };
 
+// The one name of each state, for `echo`, /diagnostics and logs.
+inline const char* sensor_state_name(SensorState state) {
+  switch (state) {
+    case SensorState::Starting:
+      return "starting";
+    case SensorState::Ok:
+      return "ok";
+    case SensorState::Degraded:
+      return "degraded";
+    case SensorState::Failed:
+      return "failed";
+    case SensorState::Replay:
+      return "replay";
+  }
+  return "unknown";
+}
+
 struct StatusReport {
   SensorState state = SensorState::Starting;
   double sample_rate_hz = 0.0;   // measured
