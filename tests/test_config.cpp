@@ -152,3 +152,50 @@ TEST(Config, MissingFileSaysSo) {
     EXPECT_NE(std::string(error.what()).find("cannot open config /nonexistent/headingd.toml"), std::string::npos);
   }
 }
+
+TEST(Config, ReadsTheIioSensor) {
+  const auto config = parse_config(R"(
+[sensor]
+kind = "iio"
+[sensor.iio]
+device = "st,l3gd20h-gyro"
+trigger = "headingd"
+sampling_frequency_hz = 400
+buffer_length = 512
+watermark = 8
+mount_matrix = "0, 1, 0; 1, 0, 0; 0, 0, -1"
+root = "/tmp/fake"
+give_up_s = 5
+)",
+                                   "test.toml");
+  const auto& iio = config.sensor.iio;
+  EXPECT_EQ(config.sensor.kind, "iio");
+  EXPECT_EQ(iio.device, "st,l3gd20h-gyro");
+  EXPECT_EQ(iio.trigger, "headingd");
+  EXPECT_EQ(iio.sampling_frequency_hz, 400.0);
+  EXPECT_EQ(iio.buffer_length, 512);
+  EXPECT_EQ(iio.watermark, 8);
+  ASSERT_TRUE(iio.mount);
+  EXPECT_EQ((*iio.mount)(0, 1), 1.0);
+  EXPECT_EQ((*iio.mount)(2, 2), -1.0);
+  EXPECT_EQ(iio.root, "/tmp/fake");
+  EXPECT_EQ(iio.give_up_s, 5.0);
+  // The defaults: our own L3GD20H driver; the IIO source's watermark as the L3GD20H's.
+  EXPECT_EQ(parse_config("", "test.toml").sensor.kind, "l3gd20h");
+  EXPECT_EQ(parse_config("", "test.toml").sensor.iio.watermark, 16);
+}
+
+TEST(Config, IioMistakesNameTheKey) {
+  EXPECT_NE(
+      error_of("[sensor.iio]\nmount_matrix = \"1, 0, 0; 0, 1, 0\"\n")
+          .find("'sensor.iio.mount_matrix' is '1, 0, 0; 0, 1, 0', expected \"x0, x1, x2; y0, y1, y2; z0, z1, z2\""),
+      std::string::npos)
+      << error_of("[sensor.iio]\nmount_matrix = \"1, 0, 0; 0, 1, 0\"\n");
+  EXPECT_NE(error_of("[sensor.iio]\nbuffer_length = 8\nwatermark = 16\n")
+                .find("sensor.iio.watermark (16) must not exceed sensor.iio.buffer_length (8)"),
+            std::string::npos);
+  EXPECT_NE(error_of("[sensor.iio]\nbus = \"/dev/i2c-1\"\n").find("'sensor.iio.bus' is not a known key"),
+            std::string::npos);
+  EXPECT_NE(error_of("[sensor.iio]\nsampling_frequency_hz = -1\n").find("sensor.iio.sampling_frequency_hz"),
+            std::string::npos);
+}
