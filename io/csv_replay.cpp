@@ -62,6 +62,7 @@ void CsvReplaySource::read_header() {
   std::string_view line;
   while (next_line(line)) {
     const auto text = trim(line);
+    lines_.count_line(!text.empty() && text.front() != '#');
     if (text.empty()) continue;
     if (text.front() == '#') {
       const auto body = trim(text.substr(1));
@@ -181,7 +182,9 @@ std::size_t CsvReplaySource::read(std::span<core::Sample> out) {
   try {
     while (count < out.size() && next_line(line)) {
       const auto text = trim(line);
-      if (text.empty() || text.front() == '#') continue;  // blank and comment lines
+      const bool content = !text.empty() && text.front() != '#';
+      lines_.count_line(content);
+      if (!content) continue;  // blank and comment lines
       parse_line(text, out[count]);
       ++count;
       ++samples_;

@@ -58,6 +58,15 @@ std::optional<double> LineReader::fraction_read() const {
   return std::clamp(taken / static_cast<double>(size_bytes_), 0.0, 1.0);
 }
 
+void LineReader::count_line(bool content) {
+  if (content) {
+    skipped_run_ = 0;
+    return;
+  }
+  if (++skipped_run_ > kMaxSkippedRun)
+    fail("more than " + std::to_string(kMaxSkippedRun) + " blank or comment lines in a row: not a recording");
+}
+
 void LineReader::fail(std::string problem) const { throw InputError(path_, line_number_, std::move(problem)); }
 
 bool LineReader::next(std::string_view& line) {

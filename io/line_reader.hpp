@@ -36,6 +36,11 @@ class LineReader {
   void close();
   // An InputError at the current line.
   [[noreturn]] void fail(std::string problem) const;
+  // Callers skip blank and comment lines; this counts them and refuses a run of more than
+  // kMaxSkippedRun (a compressed file of nothing but newlines expands ~30,000-fold and would keep
+  // a reader busy for minutes; no recording has such a run). `content` resets the count.
+  static constexpr std::uint64_t kMaxSkippedRun = 100000;
+  void count_line(bool content);
 
  private:
   std::string path_;
@@ -46,6 +51,7 @@ class LineReader {
   bool eof_ = false;
   std::uint64_t line_number_ = 0;
   std::int64_t size_bytes_ = -1;  // a plain regular file's size, else -1
+  std::uint64_t skipped_run_ = 0;
 };
 
 // Text from a file for an error message: control and non-ASCII bytes as \xHH, at most

@@ -22,7 +22,9 @@ std::vector<std::vector<double>> read_table(const std::string& path, const std::
   drivers::Fields fields;
   while (lines.next(line)) {
     const auto text = drivers::trim(line);
-    if (text.empty() || text.front() == '#') continue;
+    const bool content = !text.empty() && text.front() != '#';
+    lines.count_line(content);  // a file of nothing but newlines is refused, not read for minutes
+    if (!content) continue;
     drivers::split_fields(text, ',', fields);
     if (fields.overflow) lines.fail("more than " + std::to_string(drivers::Fields::kMax) + " fields");
     if (!have_header) {

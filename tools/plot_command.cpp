@@ -21,8 +21,11 @@ std::size_t data_rows(const std::string& path) {
   drivers::LineReader lines(path);
   std::string_view line;
   std::size_t rows = 0;
-  while (lines.next(line))
-    if (!line.empty() && line.front() != '#') ++rows;
+  while (lines.next(line)) {
+    const bool content = !line.empty() && line.front() != '#';
+    lines.count_line(content);
+    if (content) ++rows;
+  }
   return rows > 0 ? rows - 1 : 0;
 }
 

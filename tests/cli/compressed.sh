@@ -58,3 +58,13 @@ out=$("$headingd" replay --no-dds "$dir/flipped.csv.zst" --output-rate 0 -o "$di
 [ "$rc" -eq 65 ] && grep -q "flipped.csv.zst:[0-9]*: " <<<"$out" || fail "flipped bytes: exit $rc: $out"
 [ "$(wc -l <"$dir/flip.est")" -gt 1000 ] || fail "estimates before the damage were not kept"
 echo "ok: flipped bytes in a .zst -> exit 65: $(head -1 <<<"$out")"
+
+# A bomb: 300 MB of newlines compress to a few KB; the reader refuses the run of blank lines at once
+# instead of reading them for seconds (found by fuzz_csv: 649 bytes of zstd, 9.5 million blank lines).
+head -c 300000000 /dev/zero | tr '\0' '\n' | zstd -q -o "$dir/bomb.csv.zst"
+start=$(date +%s%N)
+out=$("$headingd" replay --no-dds "$dir/bomb.csv.zst" -o "$dir/bomb.est" 2>&1); rc=$?
+ms=$((($(date +%s%N) - start) / 1000000))
+[ "$rc" -eq 65 ] && grep -q "bomb.csv.zst:100001: more than 100000 blank or comment lines in a row" <<<"$out" ||
+  fail "newline bomb: exit $rc: $out"
+echo "ok: a $(stat -c %s "$dir/bomb.csv.zst")-byte .zst of 300 MB of newlines -> exit 65 after ${ms} ms: $out"
