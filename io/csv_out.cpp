@@ -1,5 +1,8 @@
 #include "io/csv_out.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -17,8 +20,19 @@ CsvOut::CsvOut(std::string path) : path_(std::move(path)), buffer_(kBufferBytes)
   if (path_ == "-") {
     file_ = stdout;
   } else {
-    file_ = std::fopen(path_.c_str(), "wb");
-    if (file_ == nullptr) throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));
+    // Estimates and recordings are streamed: readable while they grow (tail -f; a crash keeps all but
+    // the last second), so they are written in place rather than renamed into place at the end; a
+    // symbolic link planted at the name is refused, never followed (O_NOFOLLOW on the last component).
+    const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY, 0644);
+    if (fd < 0 && errno == ELOOP)
+      throw OutputError("cannot create " + path_ +
+                        ": it is a symbolic link (give the real path; '-' is standard output)");
+    if (fd < 0) throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));
+    file_ = ::fdopen(fd, "wb");
+    if (file_ == nullptr) {
+      ::close(fd);
+      throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));
+    }
     if (drivers::wants_zstd(path_)) {  // "x.csv.zst": compressed as it is written
       file_ = drivers::zstd_writer(file_);
       if (file_ == nullptr) throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));

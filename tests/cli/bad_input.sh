@@ -74,6 +74,12 @@ cp "$dir/keep.csv" "$dir/keep.orig"
 ln -s keep.csv "$dir/alias.csv"
 expect output-is-input 64 "is the input $dir/keep.csv itself: refusing to overwrite it" -- replay --no-dds "$dir/keep.csv" -o "$dir/keep.csv"
 expect output-is-input-link 64 "is the input $dir/keep.csv itself" -- replay --no-dds "$dir/keep.csv" -o "$dir/alias.csv"
+# A link planted where an output goes (estimates, a recording) is refused, never followed.
+printf 'untouched\n' >"$dir/victim.txt"
+ln -s "$dir/victim.txt" "$dir/planted.csv"
+expect output-planted-link 73 "cannot create $dir/planted.csv: it is a symbolic link" -- replay --no-dds "$dir/keep.csv" -o "$dir/planted.csv"
+expect record-planted-link 73 "cannot create $dir/planted.csv: it is a symbolic link" -- run --no-dds --simulated-chip still --duration 1 --record "$dir/planted.csv"
+[ "$(cat "$dir/victim.txt")" = untouched ] || { echo "FAIL planted-link: the link's target was written"; failures=$((failures + 1)); }
 expect record-is-input 64 "the recording $dir/keep.csv is the input" -- run --no-dds --recording "$dir/keep.csv" --speed max --record "$dir/keep.csv"
 expect output-is-record 64 "the estimates output and the recording are one file" -- run --no-dds --simulated-chip still --duration 1 -o "$dir/new.csv" --record "$dir/./new.csv"
 if cmp -s "$dir/keep.csv" "$dir/keep.orig"; then echo "ok   input-untouched: the recording is as it was"; else
