@@ -62,16 +62,33 @@ std::string comments_of(const drivers::CsvReplaySource& recording) {
   return text;
 }
 
-}  // namespace
-
-int run_live(const RunOptions& options) {
-  Config config;
+// --config, if given: 0, or the exit code after saying why.
+int load_run_config(const RunOptions& options, Config& config) {
   try {
     if (options.config_path) config = load_config(*options.config_path);
   } catch (const ConfigError& error) {
     std::fprintf(stderr, "headingd: %s\n", error.what());
     return kExitConfig;
   }
+  return 0;
+}
+
+// The sensor [sensor] and the command line name (run and record alike): 0, or the exit code.
+int open_configured_sensor(const Config& config, const RunOptions& options, std::unique_ptr<Sensor>& sensor) {
+  const SensorOptions sensor_options = merged_sensor(config.sensor, options);
+  if (const auto unknown = unknown_sensor_kind(sensor_options.kind); !unknown.empty()) {
+    std::fprintf(stderr, "headingd: %s: %s\n", options.config_path.value_or("").c_str(), unknown.c_str());
+    return kExitConfig;
+  }
+  sensor = open_live(sensor_options);
+  return sensor ? 0 : kExitNoInput;
+}
+
+}  // namespace
+
+int run_live(const RunOptions& options) {
+  Config config;
+  if (const int code = load_run_config(options, config)) return code;
   JobOptions job;
   job.command = "run";
   job.settings = config.estimator;
@@ -107,32 +124,17 @@ int run_live(const RunOptions& options) {
     return run_job(*recording, job);
   }
   job.speed_factor = 0.0;  // a sensor paces itself
-  const SensorOptions sensor_options = merged_sensor(config.sensor, options);
-  if (const auto unknown = unknown_sensor_kind(sensor_options.kind); !unknown.empty()) {
-    std::fprintf(stderr, "headingd: %s: %s\n", options.config_path.value_or("").c_str(), unknown.c_str());
-    return kExitConfig;
-  }
-  auto sensor = open_live(sensor_options);
-  if (!sensor) return kExitNoInput;
+  std::unique_ptr<Sensor> sensor;
+  if (const int code = open_configured_sensor(config, options, sensor)) return code;
   job.record_comments = sensor->header_comment();
   return run_job(sensor->source(), job);
 }
 
 int run_record(const RunOptions& options, const std::string& output, double duration_s) {
   Config config;
-  try {
-    if (options.config_path) config = load_config(*options.config_path);
-  } catch (const ConfigError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
-    return kExitConfig;
-  }
-  const SensorOptions sensor_options = merged_sensor(config.sensor, options);
-  if (const auto unknown = unknown_sensor_kind(sensor_options.kind); !unknown.empty()) {
-    std::fprintf(stderr, "headingd: %s: %s\n", options.config_path.value_or("").c_str(), unknown.c_str());
-    return kExitConfig;
-  }
-  auto sensor = open_live(sensor_options);
-  if (!sensor) return kExitNoInput;
+  if (const int code = load_run_config(options, config)) return code;
+  std::unique_ptr<Sensor> sensor;
+  if (const int code = open_configured_sensor(config, options, sensor)) return code;
   JobOptions job;
   job.command = "record";
   job.record_path = output;
