@@ -1,5 +1,7 @@
 #include "app/replay_command.hpp"
 
+#include <sys/stat.h>
+
 #include <cstdio>
 #include <memory>
 
@@ -7,6 +9,7 @@
 #include "io/csv_replay.hpp"
 #include "pipeline/estimates_sink.hpp"
 #include "pipeline/pacer.hpp"
+#include "pipeline/read_ahead.hpp"
 #include "service/config_file.hpp"
 #include "service/exit_codes.hpp"
 #include "service/input_errors.hpp"
@@ -40,6 +43,14 @@ int run_replay(const ReplayOptions& options) {
   job.wait_subscribers_s = options.wait_subscribers_s;
   job.linger_s = options.linger_s;
   job.quiet = options.quiet;
+  // A file is parsed on a second thread while this one estimates; a pipe or a terminal is read
+  // here, where a stop can end a read that waits.
+  struct stat info {};
+  if (::stat(options.input.c_str(), &info) == 0 && S_ISREG(info.st_mode)) {
+    pipeline::ReadAheadSource ahead(*source, [&source] { return source->fraction_read(); });
+    job.progress = [&ahead] { return ahead.fraction_read(); };
+    return run_job(ahead, job);
+  }
   job.progress = [&source] { return source->fraction_read(); };
   return run_job(*source, job);
 }

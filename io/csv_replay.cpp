@@ -116,9 +116,51 @@ void CsvReplaySource::find_columns(const Fields& header) {
     rate_columns_[axis] = require(euroc ? kEurocRates[axis] : app::kNativeRateColumns[axis]);
   }
   temp_column_ = euroc ? std::nullopt : find(app::kNativeTempColumn);
+  roles_.assign(column_names_.size(), kIgnored);
+  roles_[time_column_] = kTime;
+  for (int axis = 0; axis < 3; ++axis) roles_[rate_columns_[axis]] = static_cast<std::int8_t>(axis);
+  if (temp_column_) roles_[*temp_column_] = kTemp;
+}
+
+bool CsvReplaySource::scan_native(std::string_view line, core::Sample& sample) const {
+  const char* p = line.data();
+  const char* const end = p + line.size();
+  sample.temp_c = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t column = 0; column < roles_.size(); ++column) {
+    if (column > 0) {
+      if (p == end || *p != ',') return false;  // fewer fields than the header
+      ++p;
+    }
+    const std::int8_t role = roles_[column];
+    if (role == kIgnored) {
+      const auto* comma = static_cast<const char*>(std::memchr(p, ',', static_cast<std::size_t>(end - p)));
+      p = comma != nullptr ? comma : end;
+      continue;
+    }
+    const char* field = p;
+    while (field < end && is_blank(*field)) ++field;
+    if (role == kTemp && (field == end || *field == ',')) {  // empty: no temperature
+      p = field;
+      continue;
+    }
+    double value = 0.0;
+    p = scan_double(p, end, value);
+    if (p == nullptr) return false;
+    if (role == kTime)
+      sample.t_s = value;
+    else if (role == kTemp)
+      sample.temp_c = value;
+    else
+      sample.rate_dps[role] = value;
+  }
+  return p == end;  // more fields than the header otherwise
 }
 
 void CsvReplaySource::parse_line(std::string_view line, core::Sample& sample) {
+  if (format_ == Format::Native && scan_native(line, sample)) {
+    check_sample(sample);
+    return;
+  }
   split_fields(line, ',', fields_);
   if (fields_.overflow || fields_.count != column_names_.size()) {
     fail("expected " + std::to_string(column_names_.size()) + " fields, found " +
@@ -150,13 +192,18 @@ void CsvReplaySource::parse_line(std::string_view line, core::Sample& sample) {
   const bool no_temp = !temp_column_ || trim(fields_.items[*temp_column_]).empty();
   sample.temp_c = no_temp ? std::numeric_limits<double>::quiet_NaN() : number(*temp_column_);
 
+  sample.t_s = t_s;
+  check_sample(sample);
+}
+
+void CsvReplaySource::check_sample(const core::Sample& sample) {
+  const double t_s = sample.t_s;
   if (samples_ > 0 && !(t_s > previous_t_s_)) {
     char text[96];
     std::snprintf(text, sizeof text, "time %s: %.9g s is not after the previous %.9g s",
                   t_s < previous_t_s_ ? "goes backwards" : "does not advance", t_s, previous_t_s_);
     fail(text);
   }
-  sample.t_s = t_s;
   if (!core::plausible(sample)) fail(*core::why_implausible(sample));
   if (samples_ == 0) first_t_s_ = t_s;
   previous_t_s_ = t_s;

@@ -46,6 +46,11 @@ class CsvReplaySource final : public core::SampleSource {
   void read_header();
   void find_columns(const Fields& header);
   void parse_line(std::string_view line, core::Sample& sample);
+  // The common case in one pass (a native line whose fields are all well formed): false
+  // sends the line to the field-by-field parse, which names what is wrong.
+  bool scan_native(std::string_view line, core::Sample& sample) const;
+  // Time after the previous sample's, values within what a gyro can give.
+  void check_sample(const core::Sample& sample);
   [[noreturn]] void fail(std::string problem) const;
 
   std::string path_;
@@ -57,6 +62,9 @@ class CsvReplaySource final : public core::SampleSource {
   std::size_t time_column_ = 0;
   std::size_t rate_columns_[3] = {0, 0, 0};
   std::optional<std::size_t> temp_column_;
+  // What each column holds, for scan_native: an axis 0..2, or one of these.
+  static constexpr std::int8_t kIgnored = -1, kTime = 3, kTemp = 4;
+  std::vector<std::int8_t> roles_;
   Fields fields_;
 
   std::uint64_t samples_ = 0;

@@ -1,9 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <random>
+#include <string>
 #include <vector>
 
 #include "io/csv_replay.hpp"
+#include "io/text_fields.hpp"
 #include "temp_dir.hpp"
 
 using headingd::core::Sample;
@@ -162,5 +166,55 @@ TEST(CsvReplay, TruncatedLastLineIsAnError) {
   } catch (const headingd::drivers::InputError& error) {
     EXPECT_EQ(error.line(), 3u);
     EXPECT_NE(error.problem().find("no newline"), std::string::npos) << error.what();
+  }
+}
+
+// The one-pass scan takes plain decimals without from_chars (Clinger's fast path); whatever
+// the text, the value must be from_chars' to the bit, and the same texts refused.
+TEST(CsvReplay, ScannedNumbersEqualFromCharsBitForBit) {
+  std::mt19937_64 random(7);
+  std::vector<std::string> texts = {"0",
+                                    "-0",
+                                    "-0.000",
+                                    "22.00",
+                                    "0.035000",
+                                    "-0.46375",
+                                    "1e-3",
+                                    "2E5",
+                                    "123456789012345678",
+                                    "9007199254740993",
+                                    "0.1234567890123456789",
+                                    "1.",
+                                    ".5",
+                                    "-",
+                                    "+-1",
+                                    "1.5.3",
+                                    "inf",
+                                    "nan",
+                                    "0x10",
+                                    "00012.5000",
+                                    "1e400",
+                                    ""};
+  for (int i = 0; i < 200000; ++i) {
+    const auto digits = std::uniform_int_distribution<int>(1, 20)(random);
+    const auto point = std::uniform_int_distribution<int>(0, digits)(random);
+    std::string text = (random() & 1) ? "-" : "";
+    for (int d = 0; d < digits; ++d) {
+      if (d == point && d > 0) text += '.';
+      text += static_cast<char>('0' + random() % 10);
+    }
+    texts.push_back(text);
+  }
+  for (const std::string& text : texts) {
+    double scanned = 0.0;
+    const char* end = text.data() + text.size();
+    const char* after = headingd::drivers::scan_double(text.data(), end, scanned);
+    const auto reference = headingd::drivers::parse_double(text);
+    if (!reference) {
+      EXPECT_TRUE(after == nullptr || after != end) << text;
+      continue;
+    }
+    ASSERT_EQ(after, end) << text;
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(scanned), std::bit_cast<std::uint64_t>(*reference)) << text;
   }
 }
