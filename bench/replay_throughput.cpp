@@ -37,12 +37,20 @@ int main(int argc, char** argv) {
   const int repeats = 5;
   std::printf("machine: %s\n", bench::machine_description().c_str());
 
-  // Core alone: one hour of the paper's protocol in memory, through the estimator.
+  // Core alone: the recording's samples (or an hour of the paper's protocol when none is
+  // given) in memory, through the estimator.
   std::vector<core::Sample> samples;
-  drivers::GyroSimulator sim(*drivers::build_scenario("paper12h", 1, 1.0), 1);
-  drivers::TruthPoint truth;
-  samples.resize(sim.scenario().total_samples);
-  for (auto& sample : samples) sim.step(sample, truth);
+  if (argc >= 2) {
+    drivers::CsvReplaySource source(argv[1]);
+    std::vector<core::Sample> batch(4096);
+    while (const std::size_t got = source.read(batch))
+      samples.insert(samples.end(), batch.begin(), batch.begin() + static_cast<std::ptrdiff_t>(got));
+  } else {
+    drivers::GyroSimulator sim(*drivers::build_scenario("paper12h", 1, 1.0), 1);
+    drivers::TruthPoint truth;
+    samples.resize(sim.scenario().total_samples);
+    for (auto& sample : samples) sim.step(sample, truth);
+  }
   std::vector<double> core_s;
   core_s.reserve(static_cast<std::size_t>(repeats));
   double sink = 0.0;

@@ -12,11 +12,15 @@ class AttitudeIntegrator {
  public:
   // Body-frame rate, dps; q <- q * exp(rate * dt / 2).
   void add(const Vec3& rate_dps, double dt_s);
-  void set_attitude(const Eigen::Quaterniond& q) { q_ = q.normalized(); }
+  void set_attitude(const Eigen::Quaterniond& q) {
+    q_ = q.normalized();
+    since_normalised_ = 0;
+  }
   const Eigen::Quaterniond& attitude() const { return q_; }
 
  private:
   Eigen::Quaterniond q_ = Eigen::Quaterniond::Identity();
+  unsigned since_normalised_ = 0;
 };
 
 }  // namespace headingd::core

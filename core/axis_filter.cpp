@@ -8,17 +8,6 @@ void AxisFilter::reset(double bias_dps, double bias_variance_dps2) {
   state_.covariance(1, 1) = bias_variance_dps2;
 }
 
-void AxisFilter::propagate(double rate_dps, double dt_s, double white_dps2_s, double walk_dps2_per_s) {
-  state_.angle_deg += (rate_dps - state_.bias_dps) * dt_s;
-  Eigen::Matrix2d& p = state_.covariance;
-  // P <- F P F' + Q with F = [1, -dt; 0, 1].
-  const double p00 = p(0, 0) - 2.0 * dt_s * p(0, 1) + dt_s * dt_s * p(1, 1) + white_dps2_s * dt_s;
-  const double p01 = p(0, 1) - dt_s * p(1, 1);
-  p(0, 0) = p00;
-  p(0, 1) = p(1, 0) = p01;
-  p(1, 1) += walk_dps2_per_s * dt_s;
-}
-
 void AxisFilter::let_bias_drift(double dt_s, double walk_dps2_per_s) {
   state_.covariance(1, 1) += walk_dps2_per_s * dt_s;
 }

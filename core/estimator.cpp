@@ -75,9 +75,13 @@ const Estimate& Estimator::update(const Sample& sample) {
     return fault_estimate_;
   }
   const Estimate& e = std::visit([&](auto& impl) -> const Estimate& { return impl.update(sample); }, impl_);
-  // One sum catches any NaN or infinity; the paper's methods have no sigma (NaN by design).
-  const double sum = e.heading_deg + e.attitude.coeffs().sum() + e.bias_dps.sum() + e.rate_dps.sum() +
-                     (settings_.method == Method::Auto ? e.heading_sigma_deg : 0.0);
+  // One sum catches any NaN or infinity, summed in pairs so that the adds need not wait for
+  // one another. The paper's methods have no sigma (NaN by design).
+  const auto& q = e.attitude.coeffs();
+  const double sigma = settings_.method == Method::Auto ? e.heading_sigma_deg : 0.0;
+  const double sum =
+      ((e.heading_deg + sigma) + (q[0] + q[1]) + (q[2] + q[3])) +
+      ((e.bias_dps[0] + e.bias_dps[1]) + (e.bias_dps[2] + e.rate_dps[0]) + (e.rate_dps[1] + e.rate_dps[2]));
   if (!std::isfinite(sum)) return enter_fault(e);
   good_heading_deg_ = e.heading_deg;
   good_attitude_ = e.attitude;

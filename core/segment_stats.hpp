@@ -1,7 +1,8 @@
 #pragma once
 // Streaming statistics of one segment, per axis: O(1) per sample, no buffering.
-// Welford's update keeps the variance accurate even when the mean (the bias) is
-// large compared with the noise.
+// Sums of the samples less the segment's first sample: the shift takes out the mean (the
+// bias), which may be large against the noise, so the variance is as accurate as Welford's
+// update gives, without its division on every sample.
 #include <cstdint>
 
 #include "core/sample.hpp"
@@ -11,10 +12,22 @@ namespace headingd::core {
 class SegmentStats {
  public:
   void reset();
-  void add(const Vec3& rate_dps);
+  void add(const Vec3& rate_dps) {
+    if (count_++ == 0) {
+      shift_ = rate_dps;
+      min_ = rate_dps;
+      max_ = rate_dps;
+      return;
+    }
+    const Vec3 d = rate_dps - shift_;
+    sum_ += d;
+    sum_sq_ += d.cwiseAbs2();
+    min_ = min_.cwiseMin(rate_dps);
+    max_ = max_.cwiseMax(rate_dps);
+  }
 
   std::uint32_t count() const { return count_; }
-  const Vec3& mean_dps() const { return mean_; }
+  Vec3 mean_dps() const;
   // Per-sample standard deviation (n - 1 denominator); zero below two samples.
   Vec3 sigma_dps() const;
   const Vec3& min_dps() const { return min_; }
@@ -23,8 +36,9 @@ class SegmentStats {
 
  private:
   std::uint32_t count_ = 0;
-  Vec3 mean_ = Vec3::Zero();
-  Vec3 m2_ = Vec3::Zero();  // sum of squared deviations from the running mean
+  Vec3 shift_ = Vec3::Zero();   // the first sample
+  Vec3 sum_ = Vec3::Zero();     // of (sample - shift)
+  Vec3 sum_sq_ = Vec3::Zero();  // of (sample - shift)^2
   Vec3 min_ = Vec3::Zero();
   Vec3 max_ = Vec3::Zero();
 };
