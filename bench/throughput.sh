@@ -9,7 +9,14 @@ bin="$HEADINGD_ROOT/build/default"
 data="$HEADINGD_ROOT/build/bench/paper12h-s1"
 [ -f "$data/imu.csv" ] || "$bin/app/headingd" simulate --scenario paper12h --seed 1 --output-dir "$data"
 echo "file: $(grep -vc '^#' "$data/imu.csv") lines, $(du -h "$data/imu.csv" | cut -f1)"
-"$bin/bench/replay_throughput" "$data/imu.csv"
+# The floor (map the file, parse every field, nothing else) and the replay, in the same run.
+baseline=$("$bin/bench/parse_baseline" "$data/imu.csv")
+echo "$baseline"
+replay=$("$bin/bench/replay_throughput" "$data/imu.csv")
+echo "$replay"
+baseline_s=$(sed -n 's/.*: \([0-9.]*\) s for.*/\1/p' <<<"$baseline")
+replay_s=$(sed -n 's/^replay .*: \([0-9.]*\) s (median.*/\1/p' <<<"$replay")
+awk -v r="$replay_s" -v b="$baseline_s" 'BEGIN { printf "replay / baseline parse: %.2f\n", r / b }'
 
 # The same recording compressed (zstd -3 and gzip -6, by the reference programs): byte-identical
 # estimates, and the replay time beside the plain file's (median of 3 each, one run).

@@ -1,11 +1,15 @@
 #include "io/compressed_file.hpp"
 
+#include <sys/stat.h>
 #include <zlib.h>
 #include <zstd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <thread>
 #include <vector>
+
+#include "io/spsc_ring.hpp"
 
 namespace headingd::drivers {
 namespace {
@@ -130,13 +134,98 @@ int close_reader(void* cookie) {
   return result;
 }
 
+// Decompression on a thread of its own, a few megabytes ahead of the reader: a replay then
+// decompresses, parses and estimates at once instead of decompressing between parses. The
+// decompressor's own reader (zstd_read, gzip_read) runs on that thread; its text arrives here
+// in order, and an error after it, with the decompressor's words, once the text is taken.
+struct Chunk {
+  std::vector<char> bytes = std::vector<char>(1 << 20);
+  std::size_t size = 0;
+  bool end = false;   // nothing after this chunk's bytes: the end, or `error`
+  std::string error;  // the decompressor's words
+  int error_number = 0;
+};
+
+struct ThreadedReader {
+  ThreadedReader(void* reader, cookie_read_function_t* read, cookie_close_function_t* close)
+      : inner(reader), inner_read(read), inner_close(close) {}
+  void* inner;
+  cookie_read_function_t* inner_read;
+  cookie_close_function_t* inner_close;
+  SpscRing<Chunk> ring{4};
+  std::thread worker;
+  Chunk* current = nullptr;  // consumer side
+  std::size_t offset = 0;
+};
+
+void decompress_ahead(ThreadedReader& t) {
+  while (Chunk* chunk = t.ring.next_empty()) {
+    chunk->size = 0;
+    chunk->end = false;
+    chunk->error.clear();
+    while (chunk->size < chunk->bytes.size()) {
+      const ssize_t n = t.inner_read(t.inner, chunk->bytes.data() + chunk->size, chunk->bytes.size() - chunk->size);
+      if (n > 0) {
+        chunk->size += static_cast<std::size_t>(n);
+        continue;
+      }
+      if (n < 0) {
+        chunk->error_number = errno;
+        chunk->error = last_error.empty() ? std::string("read error: ") + std::strerror(errno) : last_error;
+      }
+      chunk->end = true;
+      break;
+    }
+    const bool last = chunk->end;
+    t.ring.publish();
+    if (last) return;
+  }
+}
+
+ssize_t threaded_read(void* cookie, char* out, std::size_t size) {
+  auto& t = *static_cast<ThreadedReader*>(cookie);
+  while (true) {
+    if (t.current != nullptr && t.offset < t.current->size) {
+      const std::size_t n = std::min(size, t.current->size - t.offset);
+      std::memcpy(out, t.current->bytes.data() + t.offset, n);
+      t.offset += n;
+      return static_cast<ssize_t>(n);
+    }
+    if (t.current != nullptr && t.current->end) {
+      if (t.current->error.empty()) return 0;
+      last_error = t.current->error;
+      errno = t.current->error_number;
+      return -1;
+    }
+    if (t.current != nullptr) t.ring.give_back();
+    if (!t.worker.joinable()) t.worker = std::thread([&t] { decompress_ahead(t); });
+    t.current = &t.ring.next_filled();
+    t.offset = 0;
+  }
+}
+
+int threaded_close(void* cookie) {
+  auto* t = static_cast<ThreadedReader*>(cookie);
+  t->ring.close();
+  if (t->worker.joinable()) t->worker.join();
+  const int result = t->inner_close(t->inner);
+  delete t;
+  return result;
+}
+
 template <typename Reader>
-std::FILE* wrap(Reader* reader, cookie_read_function_t* read) {
+std::FILE* wrap(Reader* reader, cookie_read_function_t* read, bool threaded) {
   cookie_io_functions_t functions{};
+  void* cookie = reader;
   functions.read = read;
   functions.close = &close_reader<Reader>;
-  std::FILE* file = fopencookie(reader, "rb", functions);
-  if (file == nullptr) close_reader<Reader>(reader);
+  if (threaded) {
+    cookie = new ThreadedReader(reader, read, &close_reader<Reader>);
+    functions.read = &threaded_read;
+    functions.close = &threaded_close;
+  }
+  std::FILE* file = fopencookie(cookie, "rb", functions);
+  if (file == nullptr) functions.close(cookie);
   return file;
 }
 
@@ -184,7 +273,9 @@ std::string decompression_error() { return last_error; }
 
 bool wants_zstd(const std::string& path) { return path.size() > 4 && path.compare(path.size() - 4, 4, ".zst") == 0; }
 
-std::FILE* decompressing(std::FILE* file) {
+namespace {
+
+std::FILE* decompressing(std::FILE* file, bool threaded) {
   last_error.clear();
   unsigned char head[4] = {};
   const std::size_t got = std::fread(head, 1, sizeof head, file);
@@ -195,7 +286,7 @@ std::FILE* decompressing(std::FILE* file) {
   if (got == 4 && std::memcmp(head, kZstdMagic, 4) == 0) {
     auto* reader = new ZstdReader{Input{file}};
     take_head(reader->in);
-    return wrap(reader, &zstd_read);
+    return wrap(reader, &zstd_read, threaded);
   }
   if (got >= 2 && std::memcmp(head, kGzipMagic, 2) == 0) {
     auto* reader = new GzipReader{Input{file}};
@@ -205,18 +296,26 @@ std::FILE* decompressing(std::FILE* file) {
       errno = ENOMEM;
       return nullptr;
     }
-    return wrap(reader, &gzip_read);
+    return wrap(reader, &gzip_read, threaded);
   }
   if (std::fseek(file, 0, SEEK_SET) == 0) return file;  // plain and seekable: as it is
   auto* reader = new PlainReader{Input{file}};
   take_head(reader->in);
-  return wrap(reader, &plain_read);
+  return wrap(reader, &plain_read, false);
 }
+
+}  // namespace
+
+std::FILE* decompressing(std::FILE* file) { return decompressing(file, false); }
 
 std::FILE* open_for_reading(const std::string& path) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) return nullptr;
-  return decompressing(file);
+  // A regular file decompresses on a thread of its own; a pipe is read where a stop can end a
+  // read that waits.
+  struct stat info {};
+  const bool regular = ::fstat(::fileno(file), &info) == 0 && S_ISREG(info.st_mode);
+  return decompressing(file, regular);
 }
 
 std::FILE* zstd_writer(std::FILE* file, int level) {

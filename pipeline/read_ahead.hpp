@@ -1,14 +1,12 @@
 #pragma once
 // Reads a recording on a second thread while the estimator runs on this one: the parse, the
 // larger half of a replay's work, no longer waits for the estimator and the estimator no longer
-// waits for the parse. Blocks of samples go through a bounded single-producer/single-consumer
-// ring (the reader stops when it is full), handed over with atomics and C++20 atomic waits;
-// a block is a few thousand samples, so the hand-over costs nothing per sample.
+// waits for the parse. Blocks of a few thousand samples go through a bounded
+// single-producer/single-consumer ring (io/spsc_ring; the reader stops when it is full).
 //
 // The wrapped source's contract holds unchanged: every good sample arrives before the
 // InputError that followed it, which is rethrown as it was thrown (same type, same text).
 // For files only (plain or compressed): a pipe could leave the reader blocked at close.
-#include <atomic>
 #include <cstdint>
 #include <exception>
 #include <functional>
@@ -18,6 +16,7 @@
 #include <vector>
 
 #include "core/sample_source.hpp"
+#include "io/spsc_ring.hpp"
 
 namespace headingd::pipeline {
 
@@ -57,13 +56,9 @@ class ReadAheadSource final : public core::SampleSource {
 
   core::SampleSource& inner_;
   Fraction fraction_;
-  std::vector<Block> ring_;
-  // Blocks filled by the reader and blocks given back by this side, counted from the start;
-  // the reader may run at most ring_.size() ahead.
-  std::atomic<std::uint64_t> produced_{0};
-  std::atomic<std::uint64_t> consumed_{0};
-  std::atomic<bool> closing_{false};
+  drivers::SpscRing<Block> ring_;
   std::thread reader_;
+  bool closed_ = false;
 
   // This side only.
   Block* current_ = nullptr;
