@@ -1,9 +1,12 @@
-// Sample age at the subscriber: from the chip's sampling instant (as the driver reconstructs it
-// from the watermark edge; the stamps the daemon publishes) to the moment a subscriber in another
-// process receives the Orientation message, over Fast DDS on loopback, for FIFO watermarks 1, 2,
-// 4, 8 and 16 at 400 Hz. The chip is the register-level simulator in real time: real FIFO
-// timing and the I2C transfer time of every burst (bytes x 9 bits / 400 kHz). Also the
-// publishing process's CPU share (simulator included, so an upper bound).
+// Sample age at the subscriber: from the chip's sampling instant (the time the driver
+// reconstructs from the watermark edge) to the moment a subscriber in another process receives
+// the Orientation message carrying that sample, over Fast DDS on loopback, for FIFO watermarks
+// 1, 2, 4, 7 (the default), 8 and 16 at 400 Hz. The chip is the register-level simulator in
+// real time: real FIFO timing, and every I2C transfer takes its time on the wire (bytes x 9
+// bits / 400 kHz) before the call returns. The sampling instant is taken on the simulator's
+// clock anchored to the steady clock, which both processes share, not from the published stamp
+// (that maps sample time to wall time by the least delay seen, and so leaves that delay out).
+// Also the publishing process's CPU share (the simulator's pacing included: an upper bound).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -38,18 +41,42 @@ namespace {
 
 constexpr double kSeconds = 15.0;
 
-class Ages : public DataReaderListener {
+double steady_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+// The subscriber's side: each Orientation's sequence number and its arrival on the steady clock
+// (CLOCK_MONOTONIC, one clock for both processes).
+struct Arrival {
+  double seq = 0.0;
+  double steady_s = 0.0;
+};
+
+class Arrivals : public DataReaderListener {
  public:
-  std::vector<double> ms;
+  std::vector<Arrival> got;
   void on_data_available(DataReader* reader) override {
     headingd::msg::Orientation m;
     SampleInfo info;
     while (reader->take_next_sample(&m, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data) continue;
-      const double stamp = m.stamp().sec() + m.stamp().nanosec() * 1e-9;
-      ms.push_back((app::wall_now_s() - stamp) * 1e3);
+      if (info.valid_data) got.push_back({static_cast<double>(m.seq()), steady_s()});
     }
   }
+};
+
+// The publisher's side, after the DdsSink: which sample each Orientation carried (its
+// simulated time), whether it went out with a sample or at the end of a wake-up.
+class PublishedSamples final : public pipeline::Sink {
+ public:
+  explicit PublishedSamples(const app::DdsNode& node) : node_(node) {}
+  void add(const core::Sample& sample, const core::Estimate&, const core::Estimator&) override { note(sample.t_s); }
+  void batch_done(const core::Estimator& estimator, const core::SampleSource&) override { note(estimator.last().t_s); }
+
+  std::vector<double> t_s_by_seq{0.0};  // index: sequence number (from 1)
+
+ private:
+  void note(double t_s) {
+    while (t_s_by_seq.size() <= node_.orientation_sent()) t_s_by_seq.push_back(t_s);
+  }
+  const app::DdsNode& node_;
 };
 
 int subscriber(const app::DdsSettings& settings, int out_fd) {
@@ -59,21 +86,21 @@ int subscriber(const app::DdsSettings& settings, int out_fd) {
   auto* topic =
       participant->create_topic(app::topic_name(settings, "orientation"), type.get_type_name(), TOPIC_QOS_DEFAULT);
   auto* sub = participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
-  Ages listener;
-  listener.ms.reserve(4096);
+  Arrivals listener;
+  listener.got.reserve(4096);
   DataReaderQos qos = DATAREADER_QOS_DEFAULT;
   qos.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
   app::apply_transport(settings, qos);
   sub->create_datareader(topic, qos, &listener);
   std::this_thread::sleep_for(std::chrono::duration<double>(kSeconds + 6.0));
   app::delete_participant(participant);
-  const auto bytes = static_cast<ssize_t>(listener.ms.size() * sizeof(double));
-  return write(out_fd, listener.ms.data(), static_cast<std::size_t>(bytes)) == bytes ? 0 : 1;
+  const auto bytes = static_cast<ssize_t>(listener.got.size() * sizeof(Arrival));
+  return write(out_fd, listener.got.data(), static_cast<std::size_t>(bytes)) == bytes ? 0 : 1;
 }
 
-double cpu_s() {
+double cpu_s(int who = RUSAGE_SELF) {
   rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
+  getrusage(who, &usage);
   return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
          static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
 }
@@ -96,7 +123,8 @@ void measure(int watermark, const std::string& profiles) {
     _exit(subscriber(settings, fds[1]));
   }
   close(fds[1]);
-  double cpu = 0.0, wall = 0.0;
+  double cpu = 0.0, thread_cpu = 0.0, wall = 0.0, anchor_s = 0.0;
+  std::vector<double> t_s_by_seq;
   {
     app::DdsNode node(settings);
     node.wait_for_subscribers(10.0);
@@ -111,30 +139,44 @@ void measure(int watermark, const std::string& profiles) {
     pipeline::Pipeline line(driver, std::make_unique<core::Estimator>(), options);
     pipeline::DdsSink publisher(node, driver, pipeline::StampClock::FirstSample);  // as the daemon, live
     line.add_sink(publisher);
+    PublishedSamples published(node);
+    line.add_sink(published);
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = cpu_s();
+    const double thread_start = cpu_s(RUSAGE_THREAD);
     line.run();
+    thread_cpu = cpu_s(RUSAGE_THREAD) - thread_start;
     cpu = cpu_s() - cpu_start;
     wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    anchor_s = std::chrono::duration<double>(chip.wall_anchor().value().time_since_epoch()).count();
+    t_s_by_seq = published.t_s_by_seq;
   }
-  std::vector<double> ms;
-  double buffer[4096];
+  std::vector<Arrival> arrivals;
+  Arrival buffer[512];
   ssize_t n;
   while ((n = read(fds[0], buffer, sizeof buffer)) > 0)
-    ms.insert(ms.end(), buffer, buffer + n / static_cast<ssize_t>(sizeof(double)));
+    arrivals.insert(arrivals.end(), buffer, buffer + n / static_cast<ssize_t>(sizeof(Arrival)));
   close(fds[0]);
   waitpid(child, nullptr, 0);
-  // The first second settles the stamps' offset (WallStamps takes the least delay over 0.5 s).
-  const std::size_t skip = std::min<std::size_t>(ms.size(), static_cast<std::size_t>(settings.orientation_rate_hz));
-  ms.erase(ms.begin(), ms.begin() + static_cast<long>(skip));
+  // Age: arrival minus the sample's physical instant, the simulator's clock anchored to the
+  // steady clock (not the published stamp, which maps sample time to the wall clock by the least
+  // delay seen and so leaves the least delay out). The first second is the start-up.
+  std::vector<double> ms;
+  std::size_t sent = t_s_by_seq.size() - 1;
+  for (const Arrival& a : arrivals) {
+    const auto seq = static_cast<std::size_t>(a.seq);
+    if (seq < static_cast<std::size_t>(settings.orientation_rate_hz) || seq >= t_s_by_seq.size()) continue;
+    ms.push_back((a.steady_s - (anchor_s + t_s_by_seq[seq])) * 1e3);
+  }
   if (ms.empty()) {
     std::printf("watermark %2d: no messages received\n", watermark);
     return;
   }
   std::printf(
-      "watermark %2d: %zu messages, sample age p50 %.1f ms, p99 %.1f ms, max %.1f ms; publisher %.2f %% of one "
-      "core\n",
-      watermark, ms.size(), percentile(ms, 0.5), percentile(ms, 0.99), percentile(ms, 1.0), 100.0 * cpu / wall);
+      "watermark %2d: %zu of %zu messages (%.1f Hz), sample age p50 %.1f ms, p99 %.1f ms, max %.1f ms; publisher "
+      "%.2f %% of one core (its pipeline thread %.2f %%)\n",
+      watermark, ms.size(), sent, static_cast<double>(sent) / wall, percentile(ms, 0.5), percentile(ms, 0.99),
+      percentile(ms, 1.0), 100.0 * cpu / wall, 100.0 * thread_cpu / wall);
   std::fflush(stdout);
 }
 

@@ -14,7 +14,13 @@ constexpr double kDegradedAfterRecoveryS = 5.0;
 
 DdsSink::DdsSink(app::DdsNode& node, const core::SampleSource& source, StampClock clock,
                  app::DuplicatePolicy on_duplicate, WallStamps::WallClock wall)
-    : node_(node), source_(source), clock_(clock), on_duplicate_(on_duplicate), stamps_(wall), wall_(std::move(wall)) {}
+    : node_(node),
+      source_(source),
+      clock_(clock),
+      on_duplicate_(on_duplicate),
+      stamps_(wall),
+      wall_(std::move(wall)),
+      newest_of_wakeup_(source.health().live) {}
 
 void DdsSink::log_inbound(const core::Estimator& estimator) {
   refusals_.clear();
@@ -38,6 +44,11 @@ void DdsSink::log_inbound(const core::Estimator& estimator) {
 }
 
 void DdsSink::batch_done(const core::Estimator& estimator, const core::SampleSource& /*source*/) {
+  if (publication_due_) {
+    publication_due_ = false;
+    const core::Estimate& newest = estimator.last();
+    node_.publish(newest, estimator.diagnostics(), report(newest), wall_offset_s_);
+  }
   log_inbound(estimator);
   for (const app::Rival& rival : node_.take_rivals()) {
     ++rivals_;
@@ -94,6 +105,13 @@ void DdsSink::add(const core::Sample& sample, const core::Estimate& estimate, co
   last_stamp_s_ = stamp_s;
   wall_offset_s_ = stamp_s - sample.t_s;
   if (!node_.due(estimate)) return;
+  if (newest_of_wakeup_ && !publication_due_) {
+    publication_due_ = true;  // published at the end of the wake-up, with its newest sample
+    return;
+  }
+  // A second publication time within one wake-up (a wake-up longer than the publication
+  // period): this one goes out now, so the rate holds; the end of the wake-up still sends the
+  // newest.
   node_.publish(estimate, estimator.diagnostics(), report(estimate), wall_offset_s_);
 }
 

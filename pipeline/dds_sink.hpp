@@ -23,6 +23,7 @@ class DdsSink final : public Sink, public CommandInbox {
           app::DuplicatePolicy on_duplicate = app::DuplicatePolicy::Warn, WallStamps::WallClock wall = app::wall_now_s);
   void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) override;
   void take(std::vector<app::ValidCommand>& out) override { node_.take_commands(out); }
+  // A live sensor's publication that fell due in the batch goes out (see newest_of_wakeup_).
   // Another publisher of our topics: logged, counted on Status, and under the refuse policy
   // the run ends (RunRefused) if the other one came first.
   void batch_done(const core::Estimator& estimator, const core::SampleSource& source) override;
@@ -49,6 +50,12 @@ class DdsSink final : public Sink, public CommandInbox {
   std::uint64_t stuck_samples_ = 0;  // samples equal to the one before on all three axes
   double first_t_s_ = 0.0;
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+  // A sensor's batch is one wake-up's samples (a FIFO burst): a publication that falls due
+  // within it goes out at its end with the newest sample, not with the sample that crossed the
+  // publication time, which is up to a watermark older. The 50 Hz grid is kept as long as a
+  // wake-up is shorter than a publication period (the default watermark sees to that).
+  bool newest_of_wakeup_ = false;
+  bool publication_due_ = false;
 };
 
 }  // namespace headingd::pipeline

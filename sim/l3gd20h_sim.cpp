@@ -173,7 +173,9 @@ void L3gd20hSimulator::bus_time(std::size_t bytes) {
 void L3gd20hSimulator::pace() {
   if (!realtime_) return;
   // Against one anchor, so every simulated nanosecond counts, bus transactions included (pacing
-  // only the waits ran 6 % fast: the bursts' bus time was never slept).
+  // only the waits ran 6 % fast: the bursts' bus time was never slept). Paced after every bus
+  // transaction too, as an ioctl returns when the transfer ends: samples read in a burst reach
+  // the caller no earlier than on the real bus.
   const auto now = std::chrono::steady_clock::now();
   if (!wall_anchor_) wall_anchor_ = now - std::chrono::nanoseconds(clock_ns_);
   std::this_thread::sleep_until(*wall_anchor_ + std::chrono::nanoseconds(clock_ns_));
@@ -293,6 +295,7 @@ void L3gd20hSimulator::write_read(std::uint8_t address, std::span<const std::uin
       reg =
           (reg == OUT_Z_H && fifo_enabled()) ? static_cast<std::uint8_t>(OUT_X_L) : static_cast<std::uint8_t>(reg + 1);
   }
+  pace();  // as an ioctl returns: once the last byte is on the wire
 }
 
 void L3gd20hSimulator::write(std::uint8_t address, std::span<const std::uint8_t> tx) {
@@ -307,6 +310,7 @@ void L3gd20hSimulator::write(std::uint8_t address, std::span<const std::uint8_t>
     write_register(reg, tx[i]);
     if (increment) ++reg;
   }
+  pace();
 }
 
 std::optional<std::int64_t> L3gd20hSimulator::wait(std::chrono::nanoseconds timeout) {

@@ -68,6 +68,9 @@ class L3gd20hSimulator final : public I2cBus, public DataReady {
   }
   // Waits and sleeps also take real time, so a process using the simulator runs at the chip's pace.
   void set_realtime(bool realtime) { realtime_ = realtime; }
+  // Real time: the steady-clock instant of simulated time 0 (set at the first pace), so a sample's
+  // physical instant is this plus its simulated time.
+  std::optional<std::chrono::steady_clock::time_point> wall_anchor() const { return wall_anchor_; }
 
   // What happened, for tests.
   struct Write {

@@ -182,7 +182,7 @@ give_up_s = 5
   EXPECT_EQ(iio.give_up_s, 5.0);
   // The defaults: our own L3GD20H driver; the IIO source's watermark as the L3GD20H's.
   EXPECT_EQ(parse_config("", "test.toml").sensor.kind, "l3gd20h");
-  EXPECT_EQ(parse_config("", "test.toml").sensor.iio.watermark, 16);
+  EXPECT_EQ(parse_config("", "test.toml").sensor.iio.watermark, 7);
 }
 
 TEST(Config, IioMistakesNameTheKey) {

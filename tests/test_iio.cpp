@@ -157,7 +157,7 @@ TEST_P(IioLayouts, DecodeToTheSimulatorsRatesWithTimeAndRate) {
   }
   EXPECT_EQ(tree.get("current_timestamp_clock"), "monotonic");
   EXPECT_EQ(tree.get(buffer + "length"), "256");
-  EXPECT_EQ(tree.get(buffer + "watermark"), "16");
+  EXPECT_EQ(tree.get(buffer + "watermark"), "7");
   EXPECT_EQ(tree.get("sampling_frequency"), GetParam() == FakeIioLayout::St16 ? "380" : "400");  // nearest offered
   EXPECT_EQ(tree.get("trigger/current_trigger"),
             tree.name() + (GetParam() == FakeIioLayout::St16 ? "-trigger" : "-dev0"));
