@@ -27,8 +27,8 @@ using namespace headingd;
 
 namespace {
 
-// Both sources compared at watermark 16 (the defaults are 7 since the sample-age work: one
-// wake-up per publication; see bench/sample_age.sh): the cost per sample at one burst size.
+// Both sources compared at watermark 16, one burst size for both (the defaults are smaller, a
+// wake-up per publication or more: see bench/sample_age.sh).
 const drivers::L3gd20hSettings kWatermark16 = [] {
   drivers::L3gd20hSettings settings;
   settings.watermark = 16;

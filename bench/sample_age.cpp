@@ -1,7 +1,7 @@
 // Sample age at the subscriber: from the chip's sampling instant (the time the driver
 // reconstructs from the watermark edge) to the moment a subscriber in another process receives
 // the Orientation message carrying that sample, over Fast DDS on loopback, for FIFO watermarks
-// 1, 2, 4, 7 (the default), 8 and 16 at 400 Hz. The chip is the register-level simulator in
+// 1, 2, 4, 6 (the default), 8 and 16 at 400 Hz. The chip is the register-level simulator in
 // real time: real FIFO timing, and every I2C transfer takes its time on the wire (bytes x 9
 // bits / 400 kHz) before the call returns. The sampling instant is taken on the simulator's
 // clock anchored to the steady clock, which both processes share, not from the published stamp

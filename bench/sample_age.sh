@@ -7,6 +7,6 @@ ensure_packages "${HEADINGD_PACKAGES[@]}"
 build_preset default quiet
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"
 echo "L3GD20H simulated in real time at 400 Hz (378.8 Hz), I2C at 400 kHz, 15 s per watermark, Orientation at 50 Hz"
-for watermark in 1 2 4 7 8 16; do
+for watermark in 1 2 4 6 8 16; do
   "$HEADINGD_ROOT/build/default/bench/sample_age" "$watermark" "$HEADINGD_ROOT/config/fastdds-loopback.xml"
 done

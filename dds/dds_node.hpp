@@ -63,6 +63,7 @@ class DdsNode {
   std::uint64_t commands_accepted() const;
   std::uint64_t commands_rejected() const;
   std::uint64_t orientation_sent() const { return orientation_seq_; }
+  double orientation_period_s() const { return 1.0 / settings_.orientation_rate_hz; }
   // Other publishers of our orientation topic discovered since the last call.
   std::vector<Rival> take_rivals();
   // Waits up to `seconds` for a subscriber to match the orientation writer; true if one did.

@@ -105,13 +105,19 @@ void DdsSink::add(const core::Sample& sample, const core::Estimate& estimate, co
   last_stamp_s_ = stamp_s;
   wall_offset_s_ = stamp_s - sample.t_s;
   if (!node_.due(estimate)) return;
-  if (newest_of_wakeup_ && !publication_due_) {
-    publication_due_ = true;  // published at the end of the wake-up, with its newest sample
-    return;
+  if (newest_of_wakeup_) {
+    // Due stays true until a publication: the samples after the first due one are the same
+    // publication time, to go out at the end of the wake-up with the newest sample.
+    if (!publication_due_) {
+      publication_due_ = true;
+      due_since_t_s_ = estimate.t_s;
+      return;
+    }
+    if (estimate.t_s < due_since_t_s_ + node_.orientation_period_s()) return;
+    // A second publication time within one wake-up (a wake-up longer than the publication
+    // period): one goes out now, so the rate holds; the end of the wake-up sends the newest.
+    due_since_t_s_ = estimate.t_s;
   }
-  // A second publication time within one wake-up (a wake-up longer than the publication
-  // period): this one goes out now, so the rate holds; the end of the wake-up still sends the
-  // newest.
   node_.publish(estimate, estimator.diagnostics(), report(estimate), wall_offset_s_);
 }
 

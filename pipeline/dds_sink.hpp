@@ -56,6 +56,7 @@ class DdsSink final : public Sink, public CommandInbox {
   // wake-up is shorter than a publication period (the default watermark sees to that).
   bool newest_of_wakeup_ = false;
   bool publication_due_ = false;
+  double due_since_t_s_ = 0.0;  // the sample at which the pending publication fell due
 };
 
 }  // namespace headingd::pipeline
