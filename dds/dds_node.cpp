@@ -436,9 +436,12 @@ void DdsNode::publish(const core::Estimate& e, const core::Diagnostics& diagnost
   const double stamp_s = t + wall_offset_s;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   if (t >= next_orientation_s_) {
-    next_orientation_s_ = next_orientation_s_ < -1e299
-                              ? t + 1.0 / settings_.orientation_rate_hz
-                              : std::max(next_orientation_s_ + 1.0 / settings_.orientation_rate_hz, t);
+    // On the grid, which a publication up to half a period late keeps (a wake-up's newest
+    // sample, pipeline/dds_sink); after a longer gap the grid starts again from this message,
+    // so the gap is not followed by a burst of messages catching up.
+    const double period_s = 1.0 / settings_.orientation_rate_hz;
+    const bool on_grid = next_orientation_s_ > -1e299 && next_orientation_s_ + period_s >= t - 0.5 * period_s;
+    next_orientation_s_ = on_grid ? next_orientation_s_ + period_s : t + period_s;
     const double heading_rad = core::deg_to_rad(e.heading_deg);
     const double sigma_rad = core::deg_to_rad(e.heading_sigma_deg);
     const core::Vec3 rate_rad = e.rate_dps * core::kRadPerDeg;
