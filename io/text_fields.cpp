@@ -2,6 +2,8 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 namespace headingd::drivers {
 
@@ -17,11 +19,41 @@ std::string_view trim(std::string_view text) {
 
 namespace {
 
+// m / 10^d for m < 2^64 (19 digits, as the shortest round-trip text of a double often needs 17)
+// where long double has a 64-bit mantissa (x86's x87): m and 10^d (d <= 27) are exact there and
+// the quotient is correctly rounded to 64 bits. Rounding that to a double is then the correct
+// rounding unless the 64-bit quotient lies exactly on a halfway point between two doubles (its
+// low 11 bits 0x400: there the true quotient may be on either side); that case, with a margin,
+// and every other platform go to from_chars. False when not taken.
+bool extended_quotient(std::uint64_t mantissa, int decimals, double& value) {
+  if constexpr (std::numeric_limits<long double>::digits != 64 || sizeof(long double) < 10) {
+    return false;
+  } else {
+    static constexpr long double kPowers[] = {1e0L,  1e1L,  1e2L,  1e3L,  1e4L,  1e5L,  1e6L,  1e7L,  1e8L,  1e9L,
+                                              1e10L, 1e11L, 1e12L, 1e13L, 1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L,
+                                              1e20L, 1e21L, 1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L};
+    if (decimals > 27) return false;
+    const long double quotient = static_cast<long double>(mantissa) / kPowers[decimals];
+    if (quotient == 0.0L) {
+      value = 0.0;
+      return true;
+    }
+    // The x87 format keeps its 64-bit mantissa, leading bit included, in its first 8 bytes.
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &quotient, sizeof bits);
+    const std::uint64_t low = bits & 0x7FF;
+    if (low >= 0x3FF && low <= 0x401) return false;
+    value = static_cast<double>(quotient);
+    return true;
+  }
+}
+
 // Plain decimals ("-0.46375", "22.00"), the whole of a recording, without from_chars' general
 // machinery: the digits as an integer m and the count of decimals d. When m < 2^53 and d <= 22
 // both m and 10^d are exact doubles and one division is correctly rounded (Clinger's fast
-// path), so the result is bit for bit what from_chars gives. Anything else (an exponent, more
-// digits, "inf", ".5") returns nullptr and goes to from_chars.
+// path), so the result is bit for bit what from_chars gives; longer mantissas go through
+// extended_quotient. Anything else (an exponent, more digits, "inf", ".5") returns nullptr and
+// goes to from_chars.
 const char* parse_plain_decimal(const char* p, const char* end, double& value) {
   static constexpr double kPowers[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                                        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
@@ -43,8 +75,11 @@ const char* parse_plain_decimal(const char* p, const char* end, double& value) {
     if (decimals == 0) return nullptr;
   }
   if (p < end && ((*p >= '0' && *p <= '9') || *p == 'e' || *p == 'E' || *p == '.')) return nullptr;
-  if (mantissa >= kExactLimit || decimals > 22) return nullptr;
-  const double magnitude = static_cast<double>(mantissa) / kPowers[decimals];
+  double magnitude = 0.0;
+  if (mantissa < kExactLimit && decimals <= 22)
+    magnitude = static_cast<double>(mantissa) / kPowers[decimals];
+  else if (!extended_quotient(mantissa, decimals, magnitude))
+    return nullptr;
   value = negative ? -magnitude : magnitude;
   return p;
 }
