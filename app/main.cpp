@@ -92,6 +92,9 @@ int main(int argc, char** argv) {
   score_cmd->add_option("--label", score.label, "Row label")->capture_default_str();
   score_cmd->add_option("--errors", score.errors_output, "Write time_h,error_deg at 1 Hz to this file");
   score_cmd->add_flag("--header", score.header, "Print the table header first");
+  score_cmd->add_option("--recording", score.recording,
+                        "The recording replayed: adds the floor (true bias removed while truly moving) and the "
+                        "excess over it");
 
   app::PlotOptions plot;
   auto* plot_cmd = cli.add_subcommand("plot", "Draw heading (+-2 sigma), error against a truth, bias and temperature");

@@ -8,16 +8,34 @@
 #include "service/exit_codes.hpp"
 #include "service/input_errors.hpp"
 #include "service/standard_output.hpp"
+#include "tools/heading_floor.hpp"
 #include "tools/heading_score.hpp"
 
 namespace headingd::app {
 
+namespace {
+
+void print_row(const std::string& label, const core::HeadingMetrics& m) {
+  std::printf("%-12s %10.2f %10.2f %10.2f %12.3f %8.2f\n", label.c_str(), m.max_abs_deg(), m.final_abs_deg(),
+              m.rms_deg(), m.drift_deg_per_h(), m.hours());
+}
+
+}  // namespace
+
 int run_score(const ScoreOptions& options) {
   TimeSeries estimate;
   TimeSeries truth;
+  Truth full_truth;
+  TimeSeries floor;
   if (const int code = report_input_errors([&] {
         estimate = read_columns(options.estimates, "time_s", "heading_deg");
-        truth = read_columns(options.truth, "time_s", "heading_deg");
+        if (options.recording) {
+          full_truth = read_truth(options.truth);
+          truth = full_truth.heading;
+          floor = floor_heading(*options.recording, full_truth);
+        } else {
+          truth = read_columns(options.truth, "time_s", "heading_deg");
+        }
       }))
     return code;
   std::vector<std::pair<double, double>> errors;
@@ -47,8 +65,12 @@ int run_score(const ScoreOptions& options) {
     std::printf("%-12s %10s %10s %10s %12s %8s\n", "method", "max|E| deg", "final|E|", "RMS deg", "drift deg/h",
                 "hours");
   }
-  std::printf("%-12s %10.2f %10.2f %10.2f %12.3f %8.2f\n", options.label.c_str(), metrics.max_abs_deg(),
-              metrics.final_abs_deg(), metrics.rms_deg(), metrics.drift_deg_per_h(), metrics.hours());
+  print_row(options.label, metrics);
+  if (options.recording) {
+    print_row(options.label + " floor", score_heading(floor, truth));
+    // The floor as the reference: its error column is floor - estimate, the estimate's excess.
+    print_row(options.label + " excess", score_heading(estimate, floor));
+  }
   return finish_standard_output();
 }
 
