@@ -50,6 +50,22 @@ void GyroSimulator::update_slow_bias(double dt_s) {
     }
     slow_bias_dps_ += state;
   }
+  // Only when configured: the named scenarios keep their random streams, and so their results.
+  if (!noise.rate_random_walk_dps_rt_s.isZero()) {
+    for (int axis = 0; axis < 3; ++axis)
+      walk_bias_dps_[axis] += noise.rate_random_walk_dps_rt_s[axis] * std::sqrt(dt_s) * normal_(rng_);
+    slow_bias_dps_ += walk_bias_dps_;
+  }
+}
+
+double GyroSimulator::knot_offset_c(double t_s) {
+  const auto& knots = scenario_.noise.temp_knots_c;
+  if (knots.empty()) return 0.0;
+  while (knot_ + 1 < knots.size() && knots[knot_ + 1].first <= t_s) ++knot_;
+  const auto& [t0, c0] = knots[knot_];
+  if (knot_ + 1 >= knots.size() || t_s <= t0) return c0;
+  const auto& [t1, c1] = knots[knot_ + 1];
+  return c0 + (c1 - c0) * (t_s - t0) / (t1 - t0);
 }
 
 void GyroSimulator::step(core::Sample& measured, TruthPoint& truth) {
@@ -68,15 +84,16 @@ void GyroSimulator::step(core::Sample& measured, TruthPoint& truth) {
 
   const double temp_c = noise.ambient_c + noise.warmup_rise_c * (1.0 - std::exp(-t_s / noise.warmup_tau_s)) +
                         noise.swing_c * std::sin(2.0 * std::numbers::pi * t_s / noise.swing_period_s) +
-                        leg.temp_offset_c;
-  const core::Vec3 bias_dps =
-      noise.initial_bias_dps + noise.bias_per_c_dps * (temp_c - noise.ambient_c) + slow_bias_dps_;
+                        leg.temp_offset_c + knot_offset_c(t_s);
+  const double above_c = temp_c - noise.ambient_c;
+  const core::Vec3 bias_dps = noise.initial_bias_dps + noise.bias_per_c_dps * above_c +
+                              noise.bias_per_c2_dps * (above_c * above_c) + slow_bias_dps_;
 
   for (int axis = 0; axis < 3; ++axis) {
     filtered_noise_dps_[axis] =
         lpf_alpha_ * filtered_noise_dps_[axis] + (1.0 - lpf_alpha_) * white_sigma_dps_[axis] * normal_(rng_);
   }
-  core::Vec3 value = leg.rate_dps + bias_dps + filtered_noise_dps_;
+  core::Vec3 value = leg.rate_dps * (1.0 + noise.scale_factor_error) + bias_dps + filtered_noise_dps_;
   if (leg.vibration_dps > 0.0) {
     // A wheeled platform shakes in pitch and roll far more than in yaw.
     for (int axis = 0; axis < 3; ++axis) value[axis] += leg.vibration_dps * noise.vibration_share[axis] * normal_(rng_);

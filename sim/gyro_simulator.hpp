@@ -46,7 +46,10 @@ class GyroSimulator {
   std::array<core::Vec3, kMarkovTerms> markov_dps_{};
   std::array<double, kMarkovTerms> markov_tau_s_{20.0, 200.0, 2000.0};
   core::Vec3 slow_bias_dps_ = core::Vec3::Zero();
+  core::Vec3 walk_bias_dps_ = core::Vec3::Zero();  // rate random walk (drawn only when configured)
   std::uint64_t slow_update_every_ = 1;
+  std::size_t knot_ = 0;  // temperature knot at or before now
+  double knot_offset_c(double t_s);
 };
 
 }  // namespace headingd::drivers

@@ -29,6 +29,12 @@ struct NoiseModel {
   core::Vec3 vibration_share{1.0, 1.0, 0.3};  // of a leg's vibration, per axis
   double quantum_dps = 0.00875;               // 8.75 mdps/LSB at +-245 dps
   double full_scale_dps = 245.0;
+  // Zero in the named scenarios; the random one draws them.
+  core::Vec3 bias_per_c2_dps = core::Vec3::Zero();            // quadratic part, dps/C^2 (about ambient)
+  core::Vec3 rate_random_walk_dps_rt_s = core::Vec3::Zero();  // the bias's own random walk
+  double scale_factor_error = 0.0;                            // measured = true * (1 + this) + bias
+  // Added to the warm-up and swing: a piecewise-linear temperature offset, (time s, degC) knots.
+  std::vector<std::pair<double, double>> temp_knots_c;
 };
 
 struct Leg {

@@ -27,7 +27,17 @@ std::string provenance(const drivers::Scenario& s, std::uint64_t seed) {
                 static_cast<double>(s.total_samples) / s.noise.rate_hz / 3600.0, s.noise.arw_dps_rt_hz.z(),
                 s.noise.arw_dps_rt_hz.x(), s.noise.bias_instability_dps.z(), s.noise.warmup_rise_c,
                 s.noise.warmup_tau_s, s.noise.bias_per_c_dps.z());
-  return text;
+  std::string lines = text;
+  if (s.noise.scale_factor_error != 0.0 || !s.noise.rate_random_walk_dps_rt_s.isZero() ||
+      !s.noise.temp_knots_c.empty()) {
+    std::snprintf(text, sizeof text,
+                  "# also: scale factor %+.3f %%, bias/temp^2 z %+.2e dps/C^2, rate random walk z %.1e dps/sqrt(s), "
+                  "ambient %.1f C, %zu temperature knots\n",
+                  100.0 * s.noise.scale_factor_error, s.noise.bias_per_c2_dps.z(),
+                  s.noise.rate_random_walk_dps_rt_s.z(), s.noise.ambient_c, s.noise.temp_knots_c.size());
+    lines += text;
+  }
+  return lines;
 }
 
 }  // namespace
