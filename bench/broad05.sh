@@ -8,7 +8,7 @@ ensure_packages "${HEADINGD_PACKAGES[@]}"
 build_preset default quiet
 bin="$HEADINGD_ROOT/build/default"
 data="${1:-$HEADINGD_ROOT/../shared/data/broad-05}"
-out="$HEADINGD_ROOT/build/bench/broad-05"
+out="$HEADINGD_ROOT/build/bench/$(basename "$data")"
 mkdir -p "$out"
 args=()
 for method in auto c; do
