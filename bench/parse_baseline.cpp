@@ -50,7 +50,7 @@ Parsed parse_all(const char* data, std::size_t size) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int runs = argc == 3 ? std::atoi(argv[2]) : 3;
+  const long runs = argc == 3 ? std::strtol(argv[2], nullptr, 10) : 3;
   if (argc < 2 || argc > 3 || runs < 1) {
     std::fprintf(stderr, "usage: parse_baseline RECORDING.csv [RUNS]\n");
     return 64;
@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
   const auto size = static_cast<std::size_t>(info.st_size);
   std::vector<double> seconds;
   Parsed parsed;
-  for (int run = 0; run < runs; ++run) {
+  for (long run = 0; run < runs; ++run) {
     const auto start = std::chrono::steady_clock::now();
     void* map = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
     if (map == MAP_FAILED) {
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   ::close(fd);
   std::sort(seconds.begin(), seconds.end());
   std::printf(
-      "baseline parse (mmap + from_chars, every field): %.2f s for %zu sample lines (median of %d; checksum %.6g)\n",
+      "baseline parse (mmap + from_chars, every field): %.2f s for %zu sample lines (median of %ld; checksum %.6g)\n",
       seconds[seconds.size() / 2], parsed.lines, runs, parsed.checksum);
   return 0;
 }

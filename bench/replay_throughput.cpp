@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
   if (argc < 2) return 0;
   // The reader alone: every sample of the file parsed and checked, nothing estimated.
   std::vector<double> read_s;
+  read_s.reserve(3);
   for (int r = 0; r < 3; ++r) {
     read_s.push_back(seconds_of([&] {
       drivers::CsvReplaySource source(argv[1]);

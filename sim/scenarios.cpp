@@ -184,13 +184,15 @@ void build_random(Scenario& s, std::uint64_t seed, double hours) {
     const double period_s = between(300.0, 1200.0);
     std::vector<std::pair<double, double>> with_heater;
     std::size_t k = 0;
-    for (double t = 0.0; t <= knot_t; t += period_s / 2.0) {
+    const auto halves = static_cast<long long>(knot_t / (period_s / 2.0));
+    for (long long half = 0; half <= halves; ++half) {
+      const double t = static_cast<double>(half) * period_s / 2.0;
       while (k + 1 < n.temp_knots_c.size() && n.temp_knots_c[k + 1].first <= t) ++k;
       const auto& [t0, c0] = n.temp_knots_c[k];
       const double base = k + 1 < n.temp_knots_c.size()
                               ? c0 + (n.temp_knots_c[k + 1].second - c0) * (t - t0) / (n.temp_knots_c[k + 1].first - t0)
                               : c0;
-      const bool high = static_cast<long long>(std::llround(2.0 * t / period_s)) % 2 == 1;
+      const bool high = half % 2 == 1;
       with_heater.emplace_back(t, base + (high ? amplitude_c : 0.0));
     }
     n.temp_knots_c = std::move(with_heater);
