@@ -24,6 +24,11 @@ void print_estimator(const core::Estimator& estimator) {
                    "  recovered    the bias started again %llu times from a long quiet period it could not "
                    "explain (a start-up while turning?)\n",
                    static_cast<unsigned long long>(d.bias_recoveries));
+    if (d.refused_recoveries > 0)
+      std::fprintf(stderr,
+                   "  refused      %llu quiet periods steady at a level the confirmed bias could not have drifted "
+                   "to (a creep or a slow curve held for minutes): no restart\n",
+                   static_cast<unsigned long long>(d.refused_recoveries));
     const core::TemperatureModelState& model = d.temperature[2];
     if (model.ready) {
       std::fprintf(stderr, "  temperature  z bias slope %+.5f dps/C over a %.1f C span (%u segments)\n",

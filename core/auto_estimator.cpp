@@ -18,6 +18,18 @@ constexpr double kUnknownBiasSigmaDps = 2.0;
 // hint says: thermal drift of the bias is hundredths of a dps per segment, not tenths.
 constexpr double kHintConflictDps = 0.3;
 constexpr double kHintConflictSigmas = 10.0;
+// How often a segment that passed the range gate turns out a slow turn is learned from the
+// run: the configured creep_prior counts as this many segments, and a verdict's weight halves
+// over about 140 segments (7 minutes of stops).
+constexpr double kPriorSegments = 20.0;
+// How far a confirmed bias may have moved when a quiet run would restart it: the bias walk's
+// sigmas, the zero-rate level's change with temperature (datasheet OffDr: +-0.04 dps/C at
+// 2000 dps full scale, the widest range), and a floor for what neither models.
+constexpr double kPlausibleSigmas = 5.0;
+constexpr double kZeroRateChangeDpsPerC = 0.04;
+constexpr double kPlausibleFloorDps = 0.02;
+constexpr double kUnconditionalRecoveryFactor = 10.0;
+constexpr double kVerdictMemory = 0.995;
 
 }  // namespace
 
@@ -38,8 +50,11 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
     filters_[static_cast<std::size_t>(axis)].set_bias(bias_dps[axis], sigma_dps[axis] * sigma_dps[axis]);
   in_startup_ = false;
   commit_last_accepted();  // nothing to take back across a bias set from outside
+  outlier_ = Outlier{};
   // A restored bias is not confirmed until a stop after motion agrees with it.
   bias_from_startup_only_ = true;
+  bias_confirmed_ = false;
+  motion_since_basis_ = false;
 }
 
 double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
@@ -53,6 +68,7 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   // retraction of the segment before it (its states predate the fix).
   segment_.filters_at_start[2] = filters_[2].state();
   commit_last_accepted();
+  outlier_ = Outlier{};
   return filters_[2].angle_deg() - before_deg;
 }
 
@@ -107,6 +123,9 @@ SegmentVerdict AutoEstimator::close_startup() {
   }
   ++accepted_;
   last_still_t_s_ = segment_.start_t_s + duration_s;
+  bias_confirmed_ = false;
+  motion_since_basis_ = false;
+  if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
   bias_from_startup_only_ = true;
   startup_start_t_s_ = segment_.start_t_s;
   return verdict;
@@ -122,6 +141,7 @@ SegmentVerdict AutoEstimator::close_segment() {
     previous_.usable = false;
     quiet_.duration_s = 0.0;  // motion: whatever the quiet run was, it has ended
     commit_last_accepted();   // motion came abruptly: the still segment before it stands
+    outlier_ = Outlier{};     // and so does a rejection before it
     return verdict;
   }
   const Vec3 mean = segment_.stats.mean_dps();
@@ -138,10 +158,16 @@ SegmentVerdict AutoEstimator::close_segment() {
   const bool mean_ok = judgement.mean_ok;
   const bool same_lean = judgement.same_lean;
   verdict.mean_ok = mean_ok;
-  if (!mean_ok && same_lean && hint_ == MotionHint::None && settings_.retract_before_creep)
-    retract_last_accepted();
-  else
+  // Only a rejection between two accepted segments (inside a stop) may be taken back: the
+  // last segment of a creep has a rejected one before it.
+  const bool after_accepted = previous_.usable && previous_accepted_;
+  double retracted_weight = 0.0;
+  if (!mean_ok && same_lean && hint_ == MotionHint::None && settings_.retract_before_creep) {
+    retracted_weight = creep_probability_of_pair(mean.z(), duration_s);
+    retract_last_accepted(retracted_weight);
+  } else {
     commit_last_accepted();
+  }
   // Kept for the next segment's pooled test, which applies only if no cut comes between.
   previous_.usable = true;
   previous_.mean_dps = mean;
@@ -165,7 +191,10 @@ SegmentVerdict AutoEstimator::close_segment() {
   verdict.accepted = hint_ != MotionHint::Moving && (mean_ok || (hint_ == MotionHint::Stopped && !hint_conflict));
   const double deviation_z = mean.z() - filters_[2].bias_dps();
   const double sd_z = std::sqrt(filters_[2].bias_variance() + r.z());
+  count_verdict(verdict.accepted);
+  previous_accepted_ = verdict.accepted;
   if (verdict.accepted) {
+    reinstate_outlier();
     accept_still(mean, r, segment_.start_t_s + duration_s);
     if (hint_ != MotionHint::Stopped) add_verdict_doubt(deviation_z, sd_z, duration_s, true);
     ++accepted_;
@@ -173,6 +202,12 @@ SegmentVerdict AutoEstimator::close_segment() {
     for (std::size_t axis = 0; axis < 3; ++axis) last_accepted_.as_still[axis] = filters_[axis].state();
     quiet_.duration_s = 0.0;
   } else {
+    outlier_ = Outlier{};  // a second rejection in a row: the one before was no outlier
+    // A rejection inside a stop (between accepted segments) may have been noise: it is taken
+    // for still by the probability of that if the next segment is accepted, and only as far
+    // as the pair it made with the segment before was not a creep.
+    if (settings_.soft_verdicts && after_accepted && hint_ == MotionHint::None)
+      note_outlier((1.0 - turning_probability(deviation_z, sd_z)) * (1.0 - retracted_weight));
     if (hint_ != MotionHint::Moving) add_verdict_doubt(deviation_z, sd_z, duration_s, false);
     ++rejected_;
     if (hint_ == MotionHint::None && settings_.recover_after_s > 0.0) follow_quiet_run(mean);
@@ -180,21 +215,77 @@ SegmentVerdict AutoEstimator::close_segment() {
   return verdict;
 }
 
-void AutoEstimator::add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted) {
+double AutoEstimator::creep_prior() const {
+  return (rejected_weight_ + kPriorSegments * settings_.creep_prior) / (judged_weight_ + kPriorSegments);
+}
+
+void AutoEstimator::count_verdict(bool accepted) {
+  judged_weight_ = kVerdictMemory * judged_weight_ + 1.0;
+  rejected_weight_ = kVerdictMemory * rejected_weight_ + (accepted ? 0.0 : 1.0);
+}
+
+double AutoEstimator::turning_probability(double deviation_dps, double sd_dps) const {
   // Likelihood of the observed deviation if still (Gaussian) and if turning slowly (flat).
   const double z = deviation_dps / sd_dps;
-  const double still =
-      (1.0 - settings_.creep_prior) * std::exp(-0.5 * z * z) / (sd_dps * std::sqrt(2.0 * std::numbers::pi));
+  const double prior = creep_prior();
+  const double still = (1.0 - prior) * std::exp(-0.5 * z * z) / (sd_dps * std::sqrt(2.0 * std::numbers::pi));
   // Flat, and not cut off beyond the span: a fast turn must never look still by default.
-  const double turning = settings_.creep_prior / (2.0 * settings_.creep_span_dps);
-  const double p_wrong = (accepted ? turning : still) / (still + turning);
-  // The heading takes the posterior mean of the turn over the segment instead of the hard
-  // verdict's all or nothing, and the variance of that two-point posterior.
+  const double turning = prior / (2.0 * settings_.creep_span_dps);
+  return turning / (still + turning);
+}
+
+double AutoEstimator::creep_probability_of_pair(double mean_z_dps, double duration_s) const {
+  if (!settings_.soft_verdicts) return 1.0;
+  // The two segments together against the bias predicted before the first: the pooled test's
+  // own figures.
+  const double pooled_s = duration_s + previous_.duration_s;
+  const double pooled_mean = (mean_z_dps * duration_s + previous_.mean_dps.z() * previous_.duration_s) / pooled_s;
+  const double sd =
+      std::sqrt(previous_.predicted_var.z() + walk_dps2_per_s_ * pooled_s + models_.white_dps2_s().z() / pooled_s);
+  return turning_probability(pooled_mean - previous_.predicted_dps.z(), sd);
+}
+
+void AutoEstimator::add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted) {
+  const double p_turning = turning_probability(deviation_dps, sd_dps);
+  const double p_wrong = accepted ? p_turning : 1.0 - p_turning;
+  // The heading's variance takes that of the two-point posterior of the segment's turn.
   const double angle_deg = deviation_dps * duration_s;
-  const double soft = settings_.soft_verdicts ? p_wrong : 0.0;
-  const double correction_deg = accepted ? soft * angle_deg : -soft * angle_deg;
-  filters_[2].soften_verdict(correction_deg, p_wrong * (1.0 - p_wrong) * angle_deg * angle_deg);
-  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(correction_deg), Vec3::UnitZ()) * attitude_.attitude());
+  filters_[2].soften_verdict(0.0, p_wrong * (1.0 - p_wrong) * angle_deg * angle_deg);
+}
+
+void AutoEstimator::reinstate_outlier() {
+  if (!outlier_.pending) return;
+  // The segment before this one is taken for still with the probability it had: the state at
+  // this segment's start becomes the mixture of the two verdicts' states, and the state now
+  // follows by the same difference carried over this segment (AxisFilter::carry_difference).
+  double yaw_change_deg = 0.0;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const AxisFilter::State mixed = blend(outlier_.as_moving[axis], outlier_.as_still[axis], outlier_.weight);
+    filters_[axis].carry_difference(mixed, outlier_.as_moving[axis], segment_.duration_s);
+    segment_.filters_at_start[axis] = mixed;
+    if (axis == 2) yaw_change_deg = mixed.angle_deg - outlier_.as_moving[axis].angle_deg;
+  }
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(deg_to_rad(yaw_change_deg), Vec3::UnitZ()));
+  segment_.attitude_at_start = turn * segment_.attitude_at_start;
+  attitude_.set_attitude(turn * attitude_.attitude());
+  outlier_ = Outlier{};
+}
+
+void AutoEstimator::note_outlier(double weight) {
+  // What taking it for still would have made of the filter, beside what rejecting it made:
+  // the angle held over it, the bias only drifting. Its mean does not measure the bias: a
+  // segment rejected for its mean is, by that choice, the noise's far tail.
+  outlier_.pending = true;
+  outlier_.weight = weight;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    outlier_.as_moving[axis] = filters_[axis].state();
+    AxisFilter still;
+    still.restore(segment_.filters_at_start[axis]);
+    still.let_bias_drift(segment_.duration_s, walk_dps2_per_s_);
+    still.shift_bias(segment_.temperature_shift_dps[a], segment_.temperature_shift_var[a]);
+    outlier_.as_still[axis] = still.state();
+  }
 }
 
 void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double end_t_s) {
@@ -225,6 +316,8 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   // Only a stop after motion confirms the start-up level; segments running on from the
   // start-up without a gate trip may be the same turn going on.
   if (motion_since_startup_) bias_from_startup_only_ = false;
+  if (motion_since_basis_) bias_confirmed_ = true;
+  if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
   last_still_t_s_ = end_t_s;
 }
 
@@ -236,14 +329,15 @@ void AutoEstimator::commit_last_accepted() {
                                 last_accepted_.r_dps2);
 }
 
-void AutoEstimator::retract_last_accepted() {
+void AutoEstimator::retract_last_accepted(double weight) {
   if (!last_accepted_.pending) return;
   last_accepted_.pending = false;
-  // As if the segment had been judged moving from the start (AxisFilter::carry_difference).
+  // As if the segment had been judged moving from the start (AxisFilter::carry_difference),
+  // by the probability that the two segments were a creep and not noise leaning twice.
   double yaw_change_deg = 0.0;
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const double d_angle = filters_[axis].carry_difference(last_accepted_.as_moving[axis],
-                                                           last_accepted_.as_still[axis], segment_.duration_s);
+                                                           last_accepted_.as_still[axis], segment_.duration_s, weight);
     if (axis == 2) yaw_change_deg = d_angle;
   }
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_change_deg), Vec3::UnitZ()) * attitude_.attitude());
@@ -274,7 +368,30 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   quiet_.sum_dps_s += mean_dps * duration_s;
   quiet_.sum_sq_dps2_s += mean_dps.cwiseAbs2() * duration_s;
   quiet_.sigma_dps = segment_.stats.sigma_dps();
-  if (quiet_.duration_s + kTimeEpsilonS >= settings_.recover_after_s) recover_bias();
+  if (quiet_.duration_s + kTimeEpsilonS < settings_.recover_after_s) return;
+  // Before a stop after motion has confirmed the bias, the run may be the stop and the bias
+  // the turn (a start-up while turning); after, only a level the bias could have drifted to.
+  // A run that goes on for many times the wait is no creep any more, whatever its level.
+  if (!bias_confirmed_ || quiet_run_bias_plausible() ||
+      quiet_.duration_s >= kUnconditionalRecoveryFactor * settings_.recover_after_s)
+    recover_bias();
+  else if (quiet_.duration_s < settings_.recover_after_s + duration_s + kTimeEpsilonS)
+    ++refused_recoveries_;  // counted once per run; the run goes on and is looked at again
+}
+
+bool AutoEstimator::quiet_run_bias_plausible() const {
+  const Vec3 mean = quiet_.mean_dps();
+  const double since_s = std::isfinite(last_still_t_s_) ? std::max(0.0, segment_.start_t_s - last_still_t_s_) : 0.0;
+  const double temp_change_c = std::isfinite(temp_at_still_c_) && std::isfinite(previous_temp_c_)
+                                   ? std::abs(previous_temp_c_ - temp_at_still_c_)
+                                   : 0.0;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    const double walk_sd = std::sqrt(filters_[axis].bias_variance() + walk_dps2_per_s_ * since_s);
+    const double bound = kPlausibleSigmas * walk_sd + kZeroRateChangeDpsPerC * temp_change_c + kPlausibleFloorDps;
+    if (std::abs(mean[a] - filters_[axis].bias_dps()) > bound) return false;
+  }
+  return true;
 }
 
 void AutoEstimator::recover_bias() {
@@ -304,7 +421,10 @@ void AutoEstimator::recover_bias() {
   last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
   previous_.usable = false;
   quiet_ = QuietRun{};
+  outlier_ = Outlier{};
   bias_from_startup_only_ = false;
+  bias_confirmed_ = false;  // until a stop after motion agrees with the new level
+  motion_since_basis_ = false;
   ++recoveries_;
 }
 
@@ -375,6 +495,7 @@ SegmentVerdict AutoEstimator::close_segment_if_due(const Sample& sample) {
     if (trips) {
       previous_.usable = false;  // motion came between
       motion_since_startup_ = true;
+      motion_since_basis_ = true;
     }
   }
   ++segment_index_;

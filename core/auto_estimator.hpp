@@ -65,6 +65,9 @@ class AutoEstimator {
   std::uint64_t retracted_segments() const { return retracted_; }
   // Times the bias started again from a long quiet period it could not explain (recover_after_s).
   std::uint64_t bias_recoveries() const { return recoveries_; }
+  // Quiet periods that looked like a stop under a wrong bias, whose level the confirmed bias
+  // could not have drifted to (a creep or a slow curve held for minutes): no recovery.
+  std::uint64_t refused_recoveries() const { return refused_recoveries_; }
   double last_still_t_s() const { return last_still_t_s_; }
 
  private:
@@ -99,6 +102,27 @@ class AutoEstimator {
   void follow_temperature(double temp_c);
   // Adds the variance of a possibly wrong still/moving verdict (see AutoSettings).
   void add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted);
+  // The probability that a segment passing the range gate is a slow turn, learned from the
+  // verdicts so far (creep_prior until there are some).
+  double creep_prior() const;
+  // Posterior probability of a slow turn for a segment mean `deviation_dps` from the predicted
+  // bias, with the standard deviation of that difference if still.
+  double turning_probability(double deviation_dps, double sd_dps) const;
+  void count_verdict(bool accepted);
+  // A rejected segment inside a stop, until the next one is judged: the filter states at its
+  // end judged moving and judged still, and the probability that it was still (soft_verdicts).
+  struct Outlier {
+    bool pending = false;
+    double weight = 0.0;
+    std::array<AxisFilter::State, 3> as_moving{};
+    std::array<AxisFilter::State, 3> as_still{};
+  };
+  void note_outlier(double weight);
+  void reinstate_outlier();
+  Outlier outlier_;
+  bool previous_accepted_ = false;  // the verdict on the segment before (see previous_.usable)
+  double judged_weight_ = 0.0;      // segments judged by the mean test, decayed
+  double rejected_weight_ = 0.0;    // of them rejected, decayed
   Vec3 bias_dps() const;
 
   // The last accepted segment, until the next one is judged: the filter states at its end
@@ -114,7 +138,11 @@ class AutoEstimator {
     Vec3 r_dps2 = Vec3::Zero();
     double last_still_before_t_s = 0.0;  // last_still_t_s_ before it
   };
-  void retract_last_accepted();
+  // `weight`: the probability that it was a creep after all (1: a hard retraction).
+  void retract_last_accepted(double weight);
+  // Of a segment that leans the same way as the accepted one before it: that the two were a
+  // creep (1 without soft verdicts).
+  double creep_probability_of_pair(double mean_z_dps, double duration_s) const;
   void commit_last_accepted();
 
   // Consecutive quiet, rejected segments that agree with one another (recover_after_s).
@@ -127,6 +155,16 @@ class AutoEstimator {
     Vec3 sigma_dps = Vec3::Zero();  // per-sample sigma of its latest segment
     Vec3 mean_dps() const { return sum_dps_s / duration_s; }
   };
+  // Whether the quiet run's level is a bias the sensor could have reached since its last stop
+  // (temperature, bias walk): a creep or a slow curve held for minutes is steady enough to pass
+  // for a stop under a wrong bias otherwise. Asked only once a stop after motion confirmed it.
+  bool quiet_run_bias_plausible() const;
+  // A stop after motion has agreed with the bias since the start-up, restore or recovery it
+  // rests on; motion (a range gate trip) has come since that basis.
+  bool bias_confirmed_ = false;
+  bool motion_since_basis_ = false;
+  double temp_at_still_c_ = std::numeric_limits<double>::quiet_NaN();  // mean of the last accepted
+  std::uint64_t refused_recoveries_ = 0;
   // Extends the run with the segment just rejected, or starts it; recovers when it is long.
   void follow_quiet_run(const Vec3& mean_dps);
   void recover_bias();

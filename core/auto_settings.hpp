@@ -33,12 +33,14 @@ struct AutoSettings {
   // What the stillness test cannot tell apart: a segment whose mean is near the threshold may
   // hide a slow turn (if accepted) or be still after all (if rejected). The probability p of
   // the other verdict comes from a two-hypothesis mixture: still (Gaussian around the
-  // predicted bias) against turning slowly (rates spread evenly over +-creep_span_dps, prior
-  // creep_prior). The heading then takes the posterior mean of the segment's turn, and its
+  // predicted bias) against turning slowly (rates spread evenly over +-creep_span_dps, prior:
+  // how often segments were rejected so far, creep_prior until there are some). The heading
   // variance grows by p (1 - p) (deviation * T)^2.
-  // true: the heading takes the posterior mean of the segment's turn (soft verdicts);
-  // false: the hard verdict decides the heading and only the variance reflects the doubt.
-  bool soft_verdicts = false;
+  // true (soft verdicts): a rejection inside a stop (accepted segments either side) is taken
+  // for still by its probability of that, and a retraction (retract_before_creep) by the
+  // probability that the two segments were a creep; the filter takes the mixture of the two
+  // verdicts' states. false: the hard verdicts decide.
+  bool soft_verdicts = true;
   double creep_span_dps = 0.2;
   // A creep that starts inside a segment can pass that segment's tests and then fail the next
   // one's (the pooled test sees it). true: the next segment's rejection takes the first

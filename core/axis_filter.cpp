@@ -66,14 +66,17 @@ void AxisFilter::soften_verdict(double correction_deg, double variance_deg2) {
   state_.covariance(0, 0) += variance_deg2;
 }
 
-double AxisFilter::carry_difference(const State& as_moving, const State& as_still, double span_s) {
+double AxisFilter::carry_difference(const State& as_moving, const State& as_still, double span_s, double weight) {
   Eigen::Matrix2d f;
   f << 1.0, -span_s, 0.0, 1.0;
-  const double d_bias = as_moving.bias_dps - as_still.bias_dps;
-  const double d_angle = (as_moving.angle_deg - as_still.angle_deg) - span_s * d_bias;
+  const double full_bias = as_moving.bias_dps - as_still.bias_dps;
+  const Eigen::Vector2d full((as_moving.angle_deg - as_still.angle_deg) - span_s * full_bias, full_bias);
+  const double d_angle = weight * full(0);
   state_.angle_deg += d_angle;
-  state_.bias_dps += d_bias;
-  state_.covariance += f * (as_moving.covariance - as_still.covariance) * f.transpose();
+  state_.bias_dps += weight * full(1);
+  // Mixture of "still" (weight 1 - w) and "moving" (w): P + w dP + w (1 - w) d d'.
+  state_.covariance += weight * (f * (as_moving.covariance - as_still.covariance) * f.transpose()) +
+                       weight * (1.0 - weight) * full * full.transpose();
   state_.covariance = 0.5 * (state_.covariance + state_.covariance.transpose()).eval();
   return d_angle;
 }
@@ -85,6 +88,15 @@ void AxisFilter::restart_bias(const State& from, double bias_dps, double bias_va
   state_.covariance(0, 0) += added_angle_variance_deg2;
   state_.covariance(0, 1) = state_.covariance(1, 0) = 0.0;
   state_.covariance(1, 1) = bias_variance_dps2;
+}
+
+AxisFilter::State blend(const AxisFilter::State& a, const AxisFilter::State& b, double w) {
+  const Eigen::Vector2d d(b.angle_deg - a.angle_deg, b.bias_dps - a.bias_dps);
+  AxisFilter::State mixed;
+  mixed.angle_deg = a.angle_deg + w * d(0);
+  mixed.bias_dps = a.bias_dps + w * d(1);
+  mixed.covariance = a.covariance + w * (b.covariance - a.covariance) + w * (1.0 - w) * d * d.transpose();
+  return mixed;
 }
 
 }  // namespace headingd::core

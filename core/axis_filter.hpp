@@ -55,8 +55,9 @@ class AxisFilter {
   void soften_verdict(double correction_deg, double variance_deg2);
   // an accepted segment taken back: the filter is linear, so what the `span_s` since did to the
   // state judged still it would have done to the state judged moving; carries the difference
-  // across that span (F = [1, -T; 0, 1]) and returns the angle change;
-  double carry_difference(const State& as_moving, const State& as_still, double span_s);
+  // across that span (F = [1, -T; 0, 1]) and returns the angle change; with `weight` below 1,
+  // the mixture of the two (mean moved by the weight, covariance of the two-point mixture);
+  double carry_difference(const State& as_moving, const State& as_still, double span_s, double weight = 1.0);
   // the bias started again from `from` (a quiet run taken for a stop): the new level with its
   // variance, and the angle's variance grown by what the old bias may have cost it.
   void restart_bias(const State& from, double bias_dps, double bias_variance_dps2, double added_angle_variance_deg2);
@@ -71,5 +72,9 @@ class AxisFilter {
  private:
   State state_;
 };
+
+// The two-point mixture of `a` (probability 1 - w) and `b` (probability w): the mean moved by
+// w, the covariance of the mixture.
+AxisFilter::State blend(const AxisFilter::State& a, const AxisFilter::State& b, double w);
 
 }  // namespace headingd::core

@@ -28,6 +28,7 @@ struct Diagnostics {
   std::uint64_t rejected_segments = 0;
   std::uint64_t retracted_segments = 0;  // auto: accepted, then taken back (a creep)
   std::uint64_t bias_recoveries = 0;     // auto: restarts from an unexplained quiet period
+  std::uint64_t refused_recoveries = 0;  // auto: quiet periods at a level the bias could not reach
   double segment_s = 0.0;                // the configured segment length
   Vec3 sigma_still_dps = Vec3::Zero();   // per-sample noise while still; zero until measured
   // Angle random walk per axis; zero where the method does not learn it (the paper's A/B/C).

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "core/estimator.hpp"
+#include "sim/gyro_simulator.hpp"
 
 using namespace headingd::core;
 
@@ -168,4 +169,93 @@ TEST(AutoEstimator, StartUpWhileTurningRecoversTheBias) {
   EXPECT_LE(std::abs(error_at_300), 2.0 * sigma) << "the lost turn shows in the sigma: " << sigma << " deg";
   rig.run(100.0, 0.0);
   EXPECT_NEAR(rig.error(), error_at_300, 0.1) << "and the heading holds from then on";
+}
+
+TEST(AutoEstimator, ASlowCurveHeldForMinutesIsNoNewBias) {
+  // After a stop that followed motion has confirmed the bias, a steady 0.3 dps curve without
+  // vibration for 150 s looks to the quiet-period recovery like a stop under a wrong bias. The
+  // bias cannot have moved 0.3 dps in minutes at a constant temperature: no restart, and the
+  // curve's 45 deg go into the heading.
+  Rig rig;
+  rig.run(60.0, 0.0);
+  rig.run(3.0, 30.0, 2.0);  // a turn on a shaking floor: the range gate trips
+  rig.run(60.0, 0.0);       // a stop after motion: the bias is confirmed
+  rig.run(150.0, 0.3);
+  rig.run(60.0, 0.0);
+  const AutoEstimator& automatic = *rig.estimator().automatic();
+  EXPECT_EQ(automatic.bias_recoveries(), 0u);
+  EXPECT_GE(automatic.refused_recoveries(), 1u);
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
+  EXPECT_LT(std::abs(rig.error()), 1.0) << "the curve is heading, not bias";
+}
+
+TEST(AutoEstimator, AWrongBiasIsLeftBeforeAStopConfirmsIt) {
+  // Started while creeping: the start-up takes the curve for the bias, and the curve's later
+  // segments agree with it. None of them confirms it (no motion came between), so the first
+  // real stop may restart the bias; once a stop after motion has confirmed the new level, a
+  // later curve may not.
+  Rig rig;
+  rig.run(200.0, 0.3);
+  rig.run(3.0, 30.0, 2.0);
+  rig.run(200.0, 0.0);  // a stop: rejected against 0.3 dps too much, recovered after 90 s
+  EXPECT_EQ(rig.estimator().automatic()->bias_recoveries(), 1u);
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
+  rig.run(3.0, 30.0, 2.0);
+  rig.run(30.0, 0.0);  // confirmed
+  rig.run(150.0, 0.3);
+  EXPECT_EQ(rig.estimator().automatic()->bias_recoveries(), 1u);
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
+}
+
+TEST(AutoEstimator, AnOutlierInsideAStopIsTakenForStill) {
+  // Standing still for half an hour, a few segments fail the mean test by chance (3.5 sigma on
+  // three axes, twice). With soft verdicts each is taken for still by its probability once the
+  // next segment is accepted; with hard ones, its integrated noise stays in the heading.
+  const auto run_with = [](bool soft, std::uint64_t seed) {
+    EstimatorSettings settings;
+    settings.automatic.soft_verdicts = soft;
+    Estimator estimator(settings);
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> noise(0.0, 1.0);
+    for (int i = 0; i < 1800 * 400; ++i) {
+      Sample s;
+      s.t_s = i / 400.0;
+      s.temp_c = 30.0;
+      s.rate_dps = Vec3(0.3 + 2.0 * noise(rng), -0.2 + 2.0 * noise(rng), -0.45 + 0.2 * noise(rng));
+      estimator.update(s);
+    }
+    return std::tuple{std::abs(estimator.last().heading_deg), estimator.rejected_segments()};
+  };
+  double soft_sum = 0.0, hard_sum = 0.0;
+  std::uint64_t rejected = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const auto [soft, soft_rejected] = run_with(true, seed);
+    const auto [hard, hard_rejected] = run_with(false, seed);
+    soft_sum += soft;
+    hard_sum += hard;
+    rejected += hard_rejected;
+    EXPECT_LT(soft, 0.2) << "seed " << seed;
+  }
+  EXPECT_GE(rejected, 8u) << "the test needs chance rejections to mean anything";
+  EXPECT_LT(soft_sum, 0.75 * hard_sum) << "soft " << soft_sum << " hard " << hard_sum << " deg summed";
+}
+
+TEST(AutoEstimator, ParkedAnHourWhileTheTemperatureRamps) {
+  // Issue 12: parked for an hour, the temperature ramping 10 C/h through 0.005 dps/C on every
+  // axis (the simulator's parked-ramp scenario): nearly every still segment accepted and the
+  // heading within 0.1 deg at the end, on every seed.
+  for (const std::uint64_t seed : {1u, 2u, 3u, 4u, 5u}) {
+    headingd::drivers::GyroSimulator sim(*headingd::drivers::build_scenario("parked-ramp", seed, 1.0), seed);
+    Estimator estimator;
+    Sample sample;
+    headingd::drivers::TruthPoint truth;
+    while (!sim.done()) {
+      sim.step(sample, truth);
+      estimator.update(sample);
+    }
+    const double judged = static_cast<double>(estimator.accepted_segments() + estimator.rejected_segments());
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    EXPECT_GE(static_cast<double>(estimator.accepted_segments()), 0.95 * judged);
+    EXPECT_LT(std::abs(truth.heading_deg - estimator.last().heading_deg), 0.1);
+  }
 }
