@@ -28,7 +28,9 @@ constexpr double kPriorSegments = 20.0;
 constexpr double kPlausibleSigmas = 5.0;
 constexpr double kZeroRateChangeDpsPerC = 0.04;
 constexpr double kPlausibleFloorDps = 0.02;
+constexpr double kModelMisfitDpsPerC = 0.003;  // a linear fit to a curved bias, per C of change
 constexpr double kUnconditionalRecoveryFactor = 10.0;
+constexpr double kMostlyRejecting = 0.8;
 constexpr double kVerdictMemory = 0.995;
 
 }  // namespace
@@ -372,7 +374,10 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   // Before a stop after motion has confirmed the bias, the run may be the stop and the bias
   // the turn (a start-up while turning); after, only a level the bias could have drifted to.
   // A run that goes on for many times the wait is no creep any more, whatever its level.
-  if (!bias_confirmed_ || quiet_run_bias_plausible() ||
+  // Nor when most segments lately were rejected: a bias (or temperature model) gone wrong
+  // rejects the stops too, and refusing would lock it in.
+  const bool mostly_rejecting = rejected_weight_ > kMostlyRejecting * judged_weight_;
+  if (!bias_confirmed_ || mostly_rejecting || quiet_run_bias_plausible() ||
       quiet_.duration_s >= kUnconditionalRecoveryFactor * settings_.recover_after_s)
     recover_bias();
   else if (quiet_.duration_s < settings_.recover_after_s + duration_s + kTimeEpsilonS)
@@ -388,7 +393,13 @@ bool AutoEstimator::quiet_run_bias_plausible() const {
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
     const double walk_sd = std::sqrt(filters_[axis].bias_variance() + walk_dps2_per_s_ * since_s);
-    const double bound = kPlausibleSigmas * walk_sd + kZeroRateChangeDpsPerC * temp_change_c + kPlausibleFloorDps;
+    // The filter's bias already follows the temperature model where it is in use: what remains
+    // is the model's own slope uncertainty and misfit; without it, the datasheet's bound.
+    const TemperatureModel& model = models_.temperature_model(static_cast<int>(axis));
+    const double per_c = model.ready() && settings_.use_temperature
+                             ? kPlausibleSigmas * std::sqrt(model.slope_variance()) + kModelMisfitDpsPerC
+                             : kZeroRateChangeDpsPerC;
+    const double bound = kPlausibleSigmas * walk_sd + per_c * temp_change_c + kPlausibleFloorDps;
     if (std::abs(mean[a] - filters_[axis].bias_dps()) > bound) return false;
   }
   return true;
@@ -423,7 +434,8 @@ void AutoEstimator::recover_bias() {
   quiet_ = QuietRun{};
   outlier_ = Outlier{};
   bias_from_startup_only_ = false;
-  bias_confirmed_ = false;  // until a stop after motion agrees with the new level
+  // A level the confirmed bias could have drifted to stays confirmed; any other waits for a
+  // stop after motion to agree with it (bias_confirmed_ is then already false).
   motion_since_basis_ = false;
   ++recoveries_;
 }
