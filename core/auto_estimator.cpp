@@ -430,6 +430,7 @@ void AutoEstimator::recover_bias() {
   attitude_.set_attitude(quiet_.attitude_at_start);
   models_.relearn_after_recovery(quiet_.sigma_dps);
   last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
+  if (std::isfinite(previous_temp_c_)) temp_at_still_c_ = previous_temp_c_;  // the run was the stop
   previous_.usable = false;
   quiet_ = QuietRun{};
   outlier_ = Outlier{};

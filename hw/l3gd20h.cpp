@@ -315,6 +315,14 @@ void L3gd20h::drain(std::optional<std::int64_t> edge_ns) {
       clock_.anchor(next_index_ + count - 1, src_ns, /*provisional=*/true);
     }
     decode(std::span(bytes).first(6 * to_read), to_read, repeat_possible);
+    // The watermark line falls once the level drops below the threshold and rises again when it
+    // is reached: if fewer samples than that can have arrived since FIFO_SRC was read, another
+    // look would find the FIFO below the watermark, and the next edge brings them. One bus
+    // transfer fewer per wake-up; without edges, after an overrun or a timeout, look again.
+    if (edge_ns && ready_.has_edges() && !overrun) {
+      const double arrived = std::floor(static_cast<double>(ready_.now_ns() - src_ns) / clock_.period_ns()) + 1.0;
+      if (arrived < settings_.watermark) break;
+    }
   }
   last_drain_end_ns_ = ready_.now_ns();
 }

@@ -118,6 +118,38 @@ TEST_P(FifoModes, NoSampleLostOrRepeatedOver100kSamples) {
   EXPECT_EQ(sim.overwritten(), 0u);
 }
 
+// Counts the transfers that read FIFO_SRC, passing everything on to the simulated chip.
+class CountingBus final : public I2cBus {
+ public:
+  explicit CountingBus(I2cBus& bus) : bus_(bus) {}
+  void write_read(std::uint8_t address, std::span<const std::uint8_t> tx, std::span<std::uint8_t> rx) override {
+    if (!tx.empty() && (tx[0] & 0x7F) == l3gd20h::FIFO_SRC) ++fifo_src_reads;
+    bus_.write_read(address, tx, rx);
+  }
+  void write(std::uint8_t address, std::span<const std::uint8_t> tx) override { bus_.write(address, tx); }
+  std::string describe() const override { return bus_.describe(); }
+  std::uint64_t fifo_src_reads = 0;
+
+ private:
+  I2cBus& bus_;
+};
+
+TEST_P(FifoModes, OneFifoStatusReadPerWakeUp) {
+  // After the burst the FIFO holds only what arrived during it, below the watermark: the next
+  // edge brings it, and no second FIFO_SRC read is needed to find that out.
+  L3gd20hSimulator sim({}, counter);
+  CountingBus bus(sim);
+  L3gd20hSettings settings;
+  settings.dynamic_stream = GetParam();
+  L3gd20h driver(bus, sim, settings);
+  const auto samples = collect(driver, 20'000);
+  const auto wakeups = driver.counters().wakeups;
+  ASSERT_GT(wakeups, 2000u);
+  EXPECT_LE(bus.fifo_src_reads, wakeups + wakeups / 100) << "FIFO_SRC reads " << bus.fifo_src_reads;
+  EXPECT_EQ(driver.counters().timeouts, 0u) << "every wake-up came from an edge";
+  EXPECT_EQ(driver.counters().lost_samples, 0u);
+}
+
 INSTANTIATE_TEST_SUITE_P(L3gd20h, FifoModes, ::testing::Values(true, false),
                          [](const ::testing::TestParamInfo<bool>& param_info) {
                            return param_info.param ? "DynamicStream" : "StreamWithRepeatPitfall";
