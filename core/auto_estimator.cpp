@@ -165,7 +165,10 @@ SegmentVerdict AutoEstimator::close_segment() {
   const bool after_accepted = previous_.usable && previous_accepted_;
   double retracted_weight = 0.0;
   if (!mean_ok && same_lean && hint_ == MotionHint::None && settings_.retract_before_creep) {
-    retracted_weight = creep_probability_of_pair(mean.z(), duration_s);
+    // By the probability that the two segments were a creep (pooled test's figures).
+    retracted_weight = settings_.soft_verdicts
+                           ? turning_probability(judgement.pooled_deviation_z_dps, judgement.pooled_sd_z_dps)
+                           : 1.0;
     retract_last_accepted(retracted_weight);
   } else {
     commit_last_accepted();
@@ -234,17 +237,6 @@ double AutoEstimator::turning_probability(double deviation_dps, double sd_dps) c
   // Flat, and not cut off beyond the span: a fast turn must never look still by default.
   const double turning = prior / (2.0 * settings_.creep_span_dps);
   return turning / (still + turning);
-}
-
-double AutoEstimator::creep_probability_of_pair(double mean_z_dps, double duration_s) const {
-  if (!settings_.soft_verdicts) return 1.0;
-  // The two segments together against the bias predicted before the first: the pooled test's
-  // own figures.
-  const double pooled_s = duration_s + previous_.duration_s;
-  const double pooled_mean = (mean_z_dps * duration_s + previous_.mean_dps.z() * previous_.duration_s) / pooled_s;
-  const double sd =
-      std::sqrt(previous_.predicted_var.z() + walk_dps2_per_s_ * pooled_s + models_.white_dps2_s().z() / pooled_s);
-  return turning_probability(pooled_mean - previous_.predicted_dps.z(), sd);
 }
 
 void AutoEstimator::add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted) {

@@ -140,9 +140,6 @@ class AutoEstimator {
   };
   // `weight`: the probability that it was a creep after all (1: a hard retraction).
   void retract_last_accepted(double weight);
-  // Of a segment that leans the same way as the accepted one before it: that the two were a
-  // creep (1 without soft verdicts).
-  double creep_probability_of_pair(double mean_z_dps, double duration_s) const;
   void commit_last_accepted();
 
   // Consecutive quiet, rejected segments that agree with one another (recover_after_s).

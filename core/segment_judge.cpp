@@ -19,6 +19,10 @@ Judgement judge_segment(const SegmentEvidence& s, const PreviousSegment& previou
       const double sd =
           std::sqrt(previous.predicted_var[a] + s.walk_dps2_per_s * pooled_s + s.white_dps2_s[a] / pooled_s);
       mean_ok = mean_ok && std::abs(pooled_mean - previous.predicted_dps[a]) <= settings.k_mean_pooled * sd;
+      if (a == 2) {
+        judgement.pooled_deviation_z_dps = pooled_mean - previous.predicted_dps[a];
+        judgement.pooled_sd_z_dps = sd;
+      }
     }
   }
   judgement.mean_ok = mean_ok;

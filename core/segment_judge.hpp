@@ -33,6 +33,10 @@ struct SegmentEvidence {
 struct Judgement {
   bool mean_ok = false;    // the mean (and pooled) test passed on every axis
   bool same_lean = false;  // a creep leaning the way the previous segment leaned
+  // The pooled test on z (when the previous segment is usable): the two segments' mean less
+  // the bias predicted before both, and that difference's sigma if still.
+  double pooled_deviation_z_dps = 0.0;
+  double pooled_sd_z_dps = 0.0;
 };
 
 Judgement judge_segment(const SegmentEvidence& segment, const PreviousSegment& previous, const AutoSettings& settings);
