@@ -68,10 +68,15 @@ struct SeedResult {
   double within_two_sigma = 0.0;   // auto, share of 10 Hz outputs
 };
 
+constexpr double kScaleSpread = 0.005;
+
 core::EstimatorSettings settings_for(Method m) {
   core::EstimatorSettings s;
   if (m == kC) s.method = core::Method::C;
   if (m == kAutoNoTemperature) s.automatic.use_temperature = false;
+  // What an integrator who knows the sensor configures: the random worlds draw the scale
+  // error evenly within +-0.5 % (sim/scenarios.cpp), a sigma of 0.5 % / sqrt(3).
+  s.automatic.scale_factor_sigma = kScaleSpread / std::sqrt(3.0);
   return s;
 }
 

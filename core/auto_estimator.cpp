@@ -61,6 +61,8 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
 
 double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   const double before_deg = filters_[2].angle_deg();
+  // The scale factor's share enters the fix's weighting; after it, turning counts from here.
+  filters_[2].widen_angle(scale_variance_deg2());
   if (variance_deg2 <= 0.0) {
     filters_[2].fix_angle(heading_deg);
   } else {
@@ -71,11 +73,13 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   segment_.filters_at_start[2] = filters_[2].state();
   commit_last_accepted();
   outlier_ = Outlier{};
+  turned_from_deg_ = filters_[2].angle_deg();
   return filters_[2].angle_deg() - before_deg;
 }
 
 void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {
-  filters_[2].restore_angle(heading_deg, variance_deg2);
+  filters_[2].restore_angle(heading_deg, variance_deg2);  // the variance saved includes the scale's
+  turned_from_deg_ = heading_deg;
   segment_.filters_at_start[2] = filters_[2].state();
   estimate_.heading_deg = heading_deg;
 }
@@ -244,7 +248,7 @@ void AutoEstimator::add_verdict_doubt(double deviation_dps, double sd_dps, doubl
   const double p_wrong = accepted ? p_turning : 1.0 - p_turning;
   // The heading's variance takes that of the two-point posterior of the segment's turn.
   const double angle_deg = deviation_dps * duration_s;
-  filters_[2].soften_verdict(0.0, p_wrong * (1.0 - p_wrong) * angle_deg * angle_deg);
+  filters_[2].widen_angle(p_wrong * (1.0 - p_wrong) * angle_deg * angle_deg);
 }
 
 void AutoEstimator::reinstate_outlier() {
@@ -517,6 +521,11 @@ void AutoEstimator::propagate(const Sample& sample, double dt_s) {
   attitude_.add(sample.rate_dps - bias_dps(), dt_s);
 }
 
+double AutoEstimator::scale_variance_deg2() const {
+  const double error_deg = settings_.scale_factor_sigma * (filters_[2].angle_deg() - turned_from_deg_);
+  return error_deg * error_deg;
+}
+
 Vec3 AutoEstimator::bias_dps() const {
   return {filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps()};
 }
@@ -533,7 +542,7 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
     estimate_.heading_sigma_deg = 0.0;  // held by assumption: the platform is still
     estimate_.bias_sigma_dps = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   } else {
-    estimate_.heading_sigma_deg = std::sqrt(std::max(0.0, filters_[2].angle_variance()));
+    estimate_.heading_sigma_deg = std::sqrt(std::max(0.0, filters_[2].angle_variance()) + scale_variance_deg2());
     for (std::size_t axis = 0; axis < 3; ++axis)
       estimate_.bias_sigma_dps[static_cast<Eigen::Index>(axis)] =
           std::sqrt(std::max(0.0, filters_[axis].bias_variance()));

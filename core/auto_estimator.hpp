@@ -176,6 +176,9 @@ class AutoEstimator {
   LastAccepted last_accepted_;
   AutoSettings settings_;
   std::array<AxisFilter, 3> filters_{};
+  double turned_from_deg_ = 0.0;  // the heading at start, restore or the last fix
+  // The heading variance the scale-factor uncertainty adds: (sigma_s * turned since then)^2.
+  double scale_variance_deg2() const;
   SensorModels models_;
   AttitudeIntegrator attitude_;
   Segment segment_;

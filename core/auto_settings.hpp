@@ -30,6 +30,12 @@ struct AutoSettings {
   // (the Kalman process noise). Default: a bias instability of ~3.6 deg/h reached in ~100 s.
   double bias_walk_dps_rt_s = 1e-4;
   double block_s = 0.1;  // block length of the noise-density estimate, s
+  // Scale-factor uncertainty, 1 sigma as a fraction of the rate. A scale error s makes a
+  // heading error of s times the net angle turned, the same on every sample (so it is not
+  // process noise): the heading sigma adds sigma_s * |turned since the last fix or start|.
+  // Default 1 %: the L3GD20H datasheet (Table 3) gives +-2 % sensitivity change over
+  // -40..+85 C, taken here as 2 sigma; a calibrated sensor may set its own figure.
+  double scale_factor_sigma = 0.01;
   // What the stillness test cannot tell apart: a segment whose mean is near the threshold may
   // hide a slow turn (if accepted) or be still after all (if rejected). The probability p of
   // the other verdict comes from a two-hypothesis mixture: still (Gaussian around the

@@ -61,11 +61,6 @@ void AxisFilter::restore_angle(double angle_deg, double variance_deg2) {
   state_.covariance(0, 0) = variance_deg2;
 }
 
-void AxisFilter::soften_verdict(double correction_deg, double variance_deg2) {
-  state_.angle_deg += correction_deg;
-  state_.covariance(0, 0) += variance_deg2;
-}
-
 double AxisFilter::carry_difference(const State& as_moving, const State& as_still, double span_s, double weight) {
   Eigen::Matrix2d f;
   f << 1.0, -span_s, 0.0, 1.0;

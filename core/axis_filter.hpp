@@ -50,9 +50,9 @@ class AxisFilter {
   void fix_angle(double angle_deg);
   // the angle saved before a restart, with its variance then, uncorrelated with the bias;
   void restore_angle(double angle_deg, double variance_deg2);
-  // a verdict that may be wrong: the angle moves by the expected correction and takes the
-  // variance of the two-point posterior;
-  void soften_verdict(double correction_deg, double variance_deg2);
+  // an error of the angle alone that the filter does not model (a verdict that may be wrong,
+  // the scale factor before a fix): its variance added, uncorrelated with the bias;
+  void widen_angle(double variance_deg2) { state_.covariance(0, 0) += variance_deg2; }
   // an accepted segment taken back: the filter is linear, so what the `span_s` since did to the
   // state judged still it would have done to the state judged moving; carries the difference
   // across that span (F = [1, -T; 0, 1]) and returns the angle change; with `weight` below 1,

@@ -161,6 +161,8 @@ void read_auto(const TableReader& r, core::AutoSettings& a) {
           a.bias_walk_dps_rt_s = r.number(node, key, 0.0, 1.0, false);
         else if (name == "block_s")
           a.block_s = r.number(node, key, 0.0, 60.0, true);
+        else if (name == "scale_factor_sigma")
+          a.scale_factor_sigma = r.number(node, key, 0.0, 0.5, false);
         else if (name == "retract_before_creep")
           a.retract_before_creep = r.boolean(node, key);
         else if (name == "recover_after_s")
@@ -170,7 +172,7 @@ void read_auto(const TableReader& r, core::AutoSettings& a) {
         return true;
       },
       "min_segment_s, k_range, k_mean, k_mean_pooled, arw_dps_rt_hz, bias_walk_dps_rt_s, block_s, "
-      "retract_before_creep, recover_after_s");
+      "scale_factor_sigma, retract_before_creep, recover_after_s");
 }
 
 void read_estimator(const TableReader& r, core::EstimatorSettings& e) {

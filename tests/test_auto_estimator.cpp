@@ -109,6 +109,36 @@ TEST(AutoEstimator, SigmaGrowsWhileMovingNotWhileStill) {
   EXPECT_TRUE(std::isfinite(rig.estimator().last().bias_sigma_dps.z()));
 }
 
+TEST(AutoEstimator, TheScaleFactorCountsTheNetTurnSinceTheLastFix) {
+  // The same run with and without a scale-factor uncertainty: the difference in heading
+  // variance is (sigma_s * net turn)^2, whichever way the turns went, and a fix starts it again.
+  EstimatorSettings with_scale;
+  with_scale.automatic.scale_factor_sigma = 0.01;
+  EstimatorSettings without_scale;
+  without_scale.automatic.scale_factor_sigma = 0.0;
+  Rig scaled(with_scale), plain(without_scale);
+  const auto added_sigma = [&] {
+    const double a = scaled.estimator().last().heading_sigma_deg, b = plain.estimator().last().heading_sigma_deg;
+    return std::sqrt(a * a - b * b);
+  };
+  const auto both = [&](double seconds, double rate_dps) {
+    scaled.run(seconds, rate_dps);
+    plain.run(seconds, rate_dps);
+  };
+  both(10.0, 0.0);
+  both(24.0, 30.0);  // two full turns
+  both(5.0, 0.0);
+  EXPECT_NEAR(added_sigma(), 0.01 * 720.0, 0.1);
+  both(12.0, -30.0);  // one back
+  both(5.0, 0.0);
+  EXPECT_NEAR(added_sigma(), 0.01 * 360.0, 0.1) << "the net turn, not the turning";
+  scaled.estimator().set_heading(0.0, 0.0);
+  plain.estimator().set_heading(0.0, 0.0);
+  both(3.0, 30.0);  // 90 degrees after the fix
+  both(5.0, 0.0);
+  EXPECT_NEAR(added_sigma(), 0.01 * 90.0, 0.05) << "a fix starts the count again";
+}
+
 TEST(AutoEstimator, HeadingFixIsApplied) {
   Rig rig;
   rig.run(10.0, 0.0);

@@ -56,6 +56,7 @@ k_mean = 4
 arw_dps_rt_hz = [0.1, 0.1, 0.011]
 bias_walk_dps_rt_s = 0.0002
 block_s = 0.05
+scale_factor_sigma = 0.003
 retract_before_creep = false
 recover_after_s = 30
 [estimator.temperature]
@@ -76,6 +77,7 @@ min_points = 5
   EXPECT_DOUBLE_EQ(a.arw_dps_rt_hz->z(), 0.011);
   EXPECT_DOUBLE_EQ(a.bias_walk_dps_rt_s, 0.0002);
   EXPECT_DOUBLE_EQ(a.block_s, 0.05);
+  EXPECT_DOUBLE_EQ(a.scale_factor_sigma, 0.003);
   EXPECT_FALSE(a.retract_before_creep);
   EXPECT_DOUBLE_EQ(a.recover_after_s, 30.0);
   EXPECT_FALSE(a.use_temperature);
@@ -84,6 +86,7 @@ min_points = 5
   EXPECT_EQ(a.temperature.min_points, 5u);
   EXPECT_NE(error_of("[estimator.auto]\nk_men = 3\n").find("'estimator.auto.k_men' is not a known key"),
             std::string::npos);
+  EXPECT_NE(error_of("[estimator.auto]\nscale_factor_sigma = 2\n").find("allowed [0, 0.5]"), std::string::npos);
 }
 
 TEST(Config, EmptyFileKeepsDefaults) {
