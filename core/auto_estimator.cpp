@@ -32,6 +32,12 @@ constexpr double kModelMisfitDpsPerC = 0.003;  // a linear fit to a curved bias,
 constexpr double kUnconditionalRecoveryFactor = 10.0;
 constexpr double kMostlyRejecting = 0.8;
 constexpr double kVerdictMemory = 0.995;
+// Learning the z scale factor from heading fixes: only over a turn this large, never more than
+// 5 % (beyond the datasheet's +-2 %), and never surer than 0.1 % (the datasheet's 0.2 % of full
+// scale non-linearity, as 2 sigma).
+constexpr double kMinTurnForScaleDeg = 30.0;
+constexpr double kMaxScaleEstimate = 0.05;
+constexpr double kMinScaleVariance = 0.001 * 0.001;
 
 }  // namespace
 
@@ -42,6 +48,7 @@ AutoEstimator::AutoEstimator(const BiasSettings& segments, const AutoSettings& s
       walk_dps2_per_s_(settings.bias_walk_dps_rt_s * settings.bias_walk_dps_rt_s),
       in_startup_(segments.still_at_start) {
   segment_.blocks = BlockMeans(settings_.block_s);
+  scale_variance_ = settings_.scale_factor_sigma * settings_.scale_factor_sigma;
   if (!in_startup_) {
     for (auto& filter : filters_) filter.reset(0.0, kUnknownBiasSigmaDps * kUnknownBiasSigmaDps);
   }
@@ -61,12 +68,16 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
 
 double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   const double before_deg = filters_[2].angle_deg();
+  // A fix names a direction; the turns counted so far are ours: the equivalent nearest to the
+  // heading now (a fix of 90 at an unwrapped 449 is 450, not a jump of 359 degrees).
+  const double fix_deg = before_deg + std::remainder(heading_deg - before_deg, 360.0);
+  learn_scale(fix_deg - before_deg, variance_deg2);
   // The scale factor's share enters the fix's weighting; after it, turning counts from here.
   filters_[2].widen_angle(scale_variance_deg2());
   if (variance_deg2 <= 0.0) {
-    filters_[2].fix_angle(heading_deg);
+    filters_[2].fix_angle(fix_deg);
   } else {
-    filters_[2].measure_angle(heading_deg, variance_deg2);
+    filters_[2].measure_angle(fix_deg, variance_deg2);
   }
   // The segment under way must not take this back if it turns out still, nor may a
   // retraction of the segment before it (its states predate the fix).
@@ -75,6 +86,21 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   outlier_ = Outlier{};
   turned_from_deg_ = filters_[2].angle_deg();
   return filters_[2].angle_deg() - before_deg;
+}
+
+void AutoEstimator::learn_scale(double innovation_deg, double fix_variance_deg2) {
+  // The z scale error left after the correction so far, d, made an error of turned * d since
+  // the last fix: the innovation measures it, H = -turned, against the angle's own variance
+  // and the fix's. A floor on the variance and a bound on the estimate keep one fix with an
+  // error of another cause (a wrong bias the filter did not know of) from fixing the scale.
+  const double turned_deg = filters_[2].angle_deg() - turned_from_deg_;
+  if (!(scale_variance_ > 0.0) || std::abs(turned_deg) < kMinTurnForScaleDeg) return;
+  const double s = std::max(0.0, filters_[2].angle_variance()) + turned_deg * turned_deg * scale_variance_ +
+                   std::max(0.0, fix_variance_deg2);
+  const double gain = -turned_deg * scale_variance_ / s;
+  scale_estimate_ = std::clamp(scale_estimate_ + gain * innovation_deg, -kMaxScaleEstimate, kMaxScaleEstimate);
+  scale_variance_ = std::max(kMinScaleVariance, scale_variance_ * (1.0 + gain * turned_deg));
+  scale_gain_ = 1.0 / (1.0 + scale_estimate_);
 }
 
 void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {
@@ -515,15 +541,25 @@ SegmentVerdict AutoEstimator::close_segment_if_due(const Sample& sample) {
 void AutoEstimator::propagate(const Sample& sample, double dt_s) {
   models_.track_vibration(sample.rate_dps, dt_s);
   for (int axis = 0; axis < 3; ++axis) {
-    filters_[static_cast<std::size_t>(axis)].propagate(sample.rate_dps[axis], dt_s,
+    filters_[static_cast<std::size_t>(axis)].propagate(rate_for_angle(sample.rate_dps, axis), dt_s,
                                                        models_.process_white_dps2_s(axis, dt_s), walk_dps2_per_s_);
   }
-  attitude_.add(sample.rate_dps - bias_dps(), dt_s);
+  Vec3 turn_rate = sample.rate_dps - bias_dps();
+  turn_rate.z() *= scale_gain_;
+  attitude_.add(turn_rate, dt_s);
 }
 
 double AutoEstimator::scale_variance_deg2() const {
-  const double error_deg = settings_.scale_factor_sigma * (filters_[2].angle_deg() - turned_from_deg_);
-  return error_deg * error_deg;
+  const double turned_deg = filters_[2].angle_deg() - turned_from_deg_;
+  return scale_variance_ * turned_deg * turned_deg;
+}
+
+double AutoEstimator::rate_for_angle(const Vec3& rate_dps, int axis) const {
+  // The filter integrates (rate - bias): the z turn is corrected by the scale learned from
+  // heading fixes, the bias (measured where the rate is zero) is not.
+  if (axis != 2 || scale_gain_ == 1.0) return rate_dps[axis];
+  const double bias = filters_[2].bias_dps();
+  return bias + (rate_dps.z() - bias) * scale_gain_;
 }
 
 Vec3 AutoEstimator::bias_dps() const {

@@ -17,6 +17,8 @@ constexpr double kRateHz = 400.0;
 class Rig {
  public:
   explicit Rig(const EstimatorSettings& settings = {}) : estimator_(settings) {}
+  // The gyro's z scale: measured = true * (1 + error).
+  void set_scale_error(double error) { scale_ = 1.0 + error; }
   // `seconds` of signal with true z rate `rate_dps` on top of bias and white noise.
   void run(double seconds, double rate_dps, double vibration_dps = 0.0) {
     const auto n = static_cast<int>(std::lround(seconds * kRateHz));
@@ -26,7 +28,7 @@ class Rig {
       s.temp_c = 30.0;
       const double shake = vibration_dps * noise_(rng_);
       s.rate_dps = Vec3(0.3 + 0.05 * noise_(rng_) + shake, -0.2 + 0.05 * noise_(rng_) + shake,
-                        -0.45 + rate_dps + 0.2 * noise_(rng_) + 0.3 * shake);
+                        -0.45 + rate_dps * scale_ + 0.2 * noise_(rng_) + 0.3 * shake);
       true_heading_ += rate_dps / kRateHz * (index_ > 1 ? 1.0 : 0.0);
       const auto& e = estimator_.update(s);
       if (e.closed.closed) {
@@ -49,6 +51,7 @@ class Rig {
   double true_heading_ = 0.0;
   int closed_ = 0;
   int accepted_ = 0;
+  double scale_ = 1.0;
 };
 
 }  // namespace
@@ -134,9 +137,45 @@ TEST(AutoEstimator, TheScaleFactorCountsTheNetTurnSinceTheLastFix) {
   EXPECT_NEAR(added_sigma(), 0.01 * 360.0, 0.1) << "the net turn, not the turning";
   scaled.estimator().set_heading(0.0, 0.0);
   plain.estimator().set_heading(0.0, 0.0);
+  const double scale_sigma = scaled.estimator().automatic()->scale_sigma();
+  EXPECT_LT(scale_sigma, 0.01) << "a fix after a turn tells the scale factor too";
   both(3.0, 30.0);  // 90 degrees after the fix
   both(5.0, 0.0);
-  EXPECT_NEAR(added_sigma(), 0.01 * 90.0, 0.05) << "a fix starts the count again";
+  EXPECT_NEAR(added_sigma(), scale_sigma * 90.0, 0.05) << "a fix starts the count again";
+}
+
+TEST(AutoEstimator, TheScaleFactorIsLearnedFromHeadingFixes) {
+  // The gyro reads 1.5 % too much about z. Two full turns, a fix at the true heading, two turns
+  // more: the second error is a fraction of the first, and the sigma still covers it.
+  EstimatorSettings settings;
+  settings.automatic.scale_factor_sigma = 0.01;
+  Rig rig(settings);
+  rig.set_scale_error(0.015);
+  rig.run(10.0, 0.0);
+  rig.run(24.0, 30.0);
+  rig.run(5.0, 0.0);
+  const double first_error = rig.error();
+  EXPECT_NEAR(first_error, -0.015 * 720.0, 0.5);
+  rig.estimator().set_heading(rig.estimator().last().heading_deg + first_error, 0.01);
+  const auto* automatic = rig.estimator().automatic();
+  EXPECT_NEAR(automatic->scale_estimate(), 0.015, 0.003);
+  rig.run(24.0, 30.0);
+  rig.run(5.0, 0.0);
+  EXPECT_LT(std::abs(rig.error()), 0.25 * std::abs(first_error)) << "the turns after the fix are corrected";
+  EXPECT_LT(std::abs(rig.error()), 2.0 * rig.estimator().last().heading_sigma_deg);
+  EXPECT_LT(rig.estimator().last().heading_sigma_deg, 0.01 * 720.0) << "and the sigma tightened";
+}
+
+TEST(AutoEstimator, AFixNamesADirectionNotATurnCount) {
+  Rig rig;
+  rig.run(10.0, 0.0);
+  rig.run(15.0, 30.0);  // 450 degrees, unwrapped
+  rig.run(5.0, 0.0);
+  const double before = rig.estimator().last().heading_deg;
+  rig.estimator().set_heading(90.5, 0.0);  // the same direction, as a navigation system wraps it
+  EXPECT_NEAR(rig.estimator().last().heading_deg, before, 1e-9) << "set_heading reports through the next sample";
+  rig.run(1.0, 0.0);
+  EXPECT_NEAR(rig.estimator().last().heading_deg, 450.5, 0.05);
 }
 
 TEST(AutoEstimator, HeadingFixIsApplied) {
