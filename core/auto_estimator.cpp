@@ -36,7 +36,6 @@ constexpr double kVerdictMemory = 0.995;
 // 5 % (beyond the datasheet's +-2 %), and never surer than 0.1 % (the datasheet's 0.2 % of full
 // scale non-linearity, as 2 sigma).
 constexpr double kMinTurnForScaleDeg = 30.0;
-constexpr double kMaxScaleEstimate = 0.05;
 constexpr double kMinScaleVariance = 0.001 * 0.001;
 
 }  // namespace
@@ -98,9 +97,18 @@ void AutoEstimator::learn_scale(double innovation_deg, double fix_variance_deg2)
   const double s = std::max(0.0, filters_[2].angle_variance()) + turned_deg * turned_deg * scale_variance_ +
                    std::max(0.0, fix_variance_deg2);
   const double gain = -turned_deg * scale_variance_ / s;
-  scale_estimate_ = std::clamp(scale_estimate_ + gain * innovation_deg, -kMaxScaleEstimate, kMaxScaleEstimate);
+  scale_estimate_ = std::clamp(scale_estimate_ + gain * innovation_deg, -kMaxLearnedScale, kMaxLearnedScale);
   scale_variance_ = std::max(kMinScaleVariance, scale_variance_ * (1.0 + gain * turned_deg));
   scale_gain_ = 1.0 / (1.0 + scale_estimate_);
+  scale_learned_ = true;
+}
+
+void AutoEstimator::restore_scale(double estimate, double sigma) {
+  scale_estimate_ = std::clamp(estimate, -kMaxLearnedScale, kMaxLearnedScale);
+  scale_variance_ =
+      std::clamp(sigma * sigma, kMinScaleVariance, settings_.scale_factor_sigma * settings_.scale_factor_sigma);
+  scale_gain_ = 1.0 / (1.0 + scale_estimate_);
+  scale_learned_ = true;
 }
 
 void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {

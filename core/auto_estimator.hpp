@@ -42,6 +42,9 @@ class AutoEstimator {
   // The z scale factor learned from heading fixes (measured = true * (1 + s)), and its sigma.
   double scale_estimate() const { return scale_estimate_; }
   double scale_sigma() const { return std::sqrt(scale_variance_); }
+  bool scale_learned() const { return scale_learned_; }
+  // Restores a learned scale factor (after a restart); its sigma no wider than configured.
+  void restore_scale(double estimate, double sigma);
   // Restores a bias (after a restart) with its sigma; ends the start-up phase.
   void set_bias(const Vec3& bias_dps, const Vec3& sigma_dps);
   // Restores the noise figures learned before a restart (unless configured): without them a
@@ -187,6 +190,7 @@ class AutoEstimator {
   double scale_estimate_ = 0.0;
   double scale_variance_ = 0.0;
   double scale_gain_ = 1.0;  // 1 / (1 + scale_estimate_)
+  bool scale_learned_ = false;
   double scale_variance_deg2() const;
   double rate_for_angle(const Vec3& rate_dps, int axis) const;
   void learn_scale(double innovation_deg, double fix_variance_deg2);

@@ -42,6 +42,10 @@ struct Diagnostics {
   MotionHint motion_hint = MotionHint::None;
   std::uint64_t hint_conflicts = 0;
   double heading_fix_offset_deg = 0.0;
+  // The z scale factor learned from heading fixes (measured = true * (1 + s)) and its sigma;
+  // NaN sigma: none learned.
+  double scale_z = 0.0;
+  double scale_z_sigma = std::numeric_limits<double>::quiet_NaN();
 };
 
 // What survives a restart (the state file): the bias and what was learned about the sensor.
@@ -57,6 +61,10 @@ struct LearnedState {
   double heading_deg = std::numeric_limits<double>::quiet_NaN();
   double heading_variance_deg2 = std::numeric_limits<double>::quiet_NaN();
   double heading_fix_offset_deg = 0.0;
+  // The z scale factor learned from heading fixes (measured = true * (1 + s)) and its sigma;
+  // NaN sigma: none learned.
+  double scale_z = 0.0;
+  double scale_z_sigma = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace headingd::core

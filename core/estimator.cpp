@@ -65,6 +65,9 @@ std::optional<std::string> implausible(const LearnedState& s) {
   if (!std::isnan(s.heading_variance_deg2) && !(s.heading_variance_deg2 >= 0.0 && s.heading_variance_deg2 <= 1e6))
     return "heading variance not within 0..1e6 deg^2";
   if (!std::isfinite(s.heading_fix_offset_deg)) return "heading offset not finite";
+  if (!std::isnan(s.scale_z_sigma) &&
+      !(std::abs(s.scale_z) <= kMaxLearnedScale && s.scale_z_sigma >= 0.0 && s.scale_z_sigma <= 0.5))
+    return "z scale factor not within +-0.05 (sigma 0..0.5)";
   return std::nullopt;
 }
 
@@ -183,6 +186,10 @@ LearnedState Estimator::learned_now() const {
   if (const auto* a = std::get_if<AutoEstimator>(&impl_)) {
     state.sigma_still_dps = a->sigma_still_dps();
     state.arw_dps_rt_hz = a->noise_density_dps_rt_hz();
+    if (a->scale_learned()) {
+      state.scale_z = a->scale_estimate();
+      state.scale_z_sigma = a->scale_sigma();
+    }
     for (std::size_t axis = 0; axis < 3; ++axis) {
       state.temperature_sums[axis] = a->temperature_model(static_cast<int>(axis)).sums();
       state.temperature_points[axis] = a->temperature_model(static_cast<int>(axis)).points();
@@ -204,6 +211,7 @@ void Estimator::restore(const LearnedState& state, bool with_heading) {
   }
   if (auto* a = std::get_if<AutoEstimator>(&impl_)) {
     a->set_noise(state.sigma_still_dps, state.arw_dps_rt_hz);
+    if (!std::isnan(state.scale_z_sigma)) a->restore_scale(state.scale_z, state.scale_z_sigma);
     for (std::size_t axis = 0; axis < 3; ++axis)
       a->restore_temperature_model(static_cast<int>(axis), state.temperature_sums[axis],
                                    state.temperature_points[axis]);

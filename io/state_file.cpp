@@ -17,6 +17,8 @@
 #include <sstream>
 #include <vector>
 
+#include "core/auto_settings.hpp"
+
 namespace headingd::app {
 namespace {
 
@@ -63,6 +65,8 @@ std::string format_state(const SavedState& s) {
   // Optional (files from before it lack it): heading, its variance (nan: none) and fix offset.
   if (std::isfinite(s.heading_deg))
     body << "heading_deg=" << numbers({s.heading_deg, s.heading_variance_deg2, s.heading_fix_offset_deg}) << "\n";
+  // Optional too: the z scale factor learned from heading fixes, and its sigma.
+  if (!std::isnan(s.scale_z_sigma)) body << "scale_z=" << numbers({s.scale_z, s.scale_z_sigma}) << "\n";
   for (int a = 0; a < 3; ++a) {
     const auto& t = s.temperature_sums[static_cast<std::size_t>(a)];
     body << "temperature_model_"
@@ -138,6 +142,13 @@ SavedState parse_state(const std::string& text, const std::string& name) {
     s.heading_deg = h[0];
     s.heading_variance_deg2 = h[1];
     s.heading_fix_offset_deg = h[2];
+  }
+  if (fields.count("scale_z") != 0) {
+    const auto& z = need("scale_z", 2);
+    if (!(std::abs(z[0]) <= core::kMaxLearnedScale) || !(z[1] >= 0.0 && z[1] <= 0.5))
+      fail("scale_z values out of range");
+    s.scale_z = z[0];
+    s.scale_z_sigma = z[1];
   }
   for (int a = 0; a < 3; ++a) {
     const auto& t = need(std::string("temperature_model_") + "xyz"[a], 12);

@@ -166,6 +166,26 @@ TEST(AutoEstimator, TheScaleFactorIsLearnedFromHeadingFixes) {
   EXPECT_LT(rig.estimator().last().heading_sigma_deg, 0.01 * 720.0) << "and the sigma tightened";
 }
 
+TEST(AutoEstimator, ALearnedScaleFactorSurvivesARestart) {
+  EstimatorSettings settings;
+  Rig rig(settings);
+  rig.set_scale_error(0.015);
+  rig.run(10.0, 0.0);
+  rig.run(24.0, 30.0);
+  rig.run(5.0, 0.0);
+  rig.estimator().set_heading(rig.estimator().last().heading_deg + rig.error(), 0.01);
+  const LearnedState saved = rig.estimator().learned();
+  ASSERT_FALSE(std::isnan(saved.scale_z_sigma));
+  EXPECT_EQ(saved.scale_z, rig.estimator().automatic()->scale_estimate());
+  Estimator restarted(settings);
+  restarted.restore(saved);
+  EXPECT_EQ(restarted.automatic()->scale_estimate(), saved.scale_z);
+  EXPECT_EQ(restarted.automatic()->scale_sigma(), saved.scale_z_sigma);
+  LearnedState absurd = saved;
+  absurd.scale_z = 0.2;
+  EXPECT_THROW(restarted.restore(absurd), std::invalid_argument);
+}
+
 TEST(AutoEstimator, AFixNamesADirectionNotATurnCount) {
   Rig rig;
   rig.run(10.0, 0.0);

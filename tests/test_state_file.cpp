@@ -46,6 +46,27 @@ TEST(StateFile, RoundTripIsExact) {
   EXPECT_EQ(loaded.temp_c, saved.temp_c);
   EXPECT_EQ(loaded.temperature_sums[2].normal, saved.temperature_sums[2].normal);
   EXPECT_EQ(loaded.temperature_points[2], 12u);
+  EXPECT_TRUE(std::isnan(loaded.scale_z_sigma)) << "no scale learned, none saved";
+}
+
+TEST(StateFile, ALearnedScaleFactorRoundTripsAndAnAbsurdOneIsRefused) {
+  TempDir dir;
+  const auto path = dir.path("state");
+  SavedState saved = sample_state(-0.45);
+  saved.scale_z = 0.0123456789;
+  saved.scale_z_sigma = 0.00234;
+  save_state(path, saved);
+  const SavedState loaded = load_state(path);
+  EXPECT_EQ(loaded.scale_z, saved.scale_z);
+  EXPECT_EQ(loaded.scale_z_sigma, saved.scale_z_sigma);
+  saved.scale_z = 0.3;  // 30 %: no gyro of this kind, a corrupt value
+  save_state(path, saved);
+  try {
+    load_state(path);
+    FAIL() << "a scale factor of 30 % was loaded";
+  } catch (const StateError& error) {
+    EXPECT_NE(std::string(error.what()).find("scale_z values out of range"), std::string::npos) << error.what();
+  }
 }
 
 TEST(StateFile, CrashAtAnyStepLeavesOldOrNewNeverBroken) {
