@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
                 quantile(by_method[m], 1.0));
   }
   std::vector<std::string> losses;
-  int temperature_worse = 0, honest = 0;
+  int temperature_worse = 0, honest = 0, too_confident = 0, too_cautious = 0;
   double worst_temperature_cost = 0.0, lowest_honesty = 1.0;
   std::vector<double> on_strong, off_strong;
   for (const SeedResult& r : results) {
@@ -174,6 +174,8 @@ int main(int argc, char** argv) {
       off_strong.push_back(r.excess[kAutoNoTemperature].max_abs);
     }
     honest += r.within_two_sigma >= 0.85 && r.within_two_sigma <= 0.995;
+    too_confident += r.within_two_sigma < 0.6;
+    too_cautious += r.within_two_sigma > 0.995;
     lowest_honesty = std::min(lowest_honesty, r.within_two_sigma);
   }
   std::string list;
@@ -188,7 +190,9 @@ int main(int argc, char** argv) {
   if (!on_strong.empty())
     std::printf("; on the %zu seeds above 0.003 dps/C, median %.3f on vs %.3f off", on_strong.size(),
                 quantile(on_strong, 0.5), quantile(off_strong, 0.5));
-  std::printf("\nsigma honesty: %d of %ld seeds with 85-99.5 %% of outputs within 2 sigma; lowest %.1f %%\n", honest,
-              seeds, 100.0 * lowest_honesty);
+  std::printf(
+      "\nsigma honesty: %d of %ld seeds with 85-99.5 %% of outputs within 2 sigma (%d below 60 %%, %d above 99.5 %%); "
+      "lowest %.1f %%\n",
+      honest, seeds, too_confident, too_cautious, 100.0 * lowest_honesty);
   return 0;
 }
