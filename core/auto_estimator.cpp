@@ -70,9 +70,11 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   // A fix names a direction; the turns counted so far are ours: the equivalent nearest to the
   // heading now (a fix of 90 at an unwrapped 449 is 450, not a jump of 359 degrees).
   const double fix_deg = before_deg + std::remainder(heading_deg - before_deg, 360.0);
+  // The scale factor's share (as it was before this fix) enters the fix's weighting; after it,
+  // turning counts from here.
+  const double scale_share_deg2 = scale_variance_deg2();
   learn_scale(fix_deg - before_deg, variance_deg2);
-  // The scale factor's share enters the fix's weighting; after it, turning counts from here.
-  filters_[2].widen_angle(scale_variance_deg2());
+  filters_[2].widen_angle(scale_share_deg2);
   if (variance_deg2 <= 0.0) {
     filters_[2].fix_angle(fix_deg);
   } else {

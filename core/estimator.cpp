@@ -145,6 +145,10 @@ Diagnostics Estimator::diagnostics() const {
   d.heading_fixes = heading_fixes_;
   d.heading_fix_offset_deg = heading_fix_offset_deg_;
   if (const auto* a = std::get_if<AutoEstimator>(&impl_)) {
+    if (a->scale_learned()) {
+      d.scale_z = a->scale_estimate();
+      d.scale_z_sigma = a->scale_sigma();
+    }
     d.retracted_segments = a->retracted_segments();
     d.bias_recoveries = a->bias_recoveries();
     d.refused_recoveries = a->refused_recoveries();

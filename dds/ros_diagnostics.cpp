@@ -116,6 +116,11 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
                   {"motion_messages_refused", std::to_string(inbound.motion_refused)},
                   {"commands_accepted", std::to_string(inbound.commands_accepted)},
                   {"commands_rejected", std::to_string(inbound.commands_rejected)}};
+  // Learned from heading fixes only: absent until a fix after a turn has told it.
+  if (!std::isnan(d.scale_z_sigma)) {
+    entry.values.emplace_back("scale_z", number(d.scale_z));
+    entry.values.emplace_back("scale_z_sigma", number(d.scale_z_sigma));
+  }
   return entry;
 }
 

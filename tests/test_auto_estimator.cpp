@@ -177,6 +177,7 @@ TEST(AutoEstimator, ALearnedScaleFactorSurvivesARestart) {
   const LearnedState saved = rig.estimator().learned();
   ASSERT_FALSE(std::isnan(saved.scale_z_sigma));
   EXPECT_EQ(saved.scale_z, rig.estimator().automatic()->scale_estimate());
+  EXPECT_EQ(rig.estimator().diagnostics().scale_z, saved.scale_z);
   Estimator restarted(settings);
   restarted.restore(saved);
   EXPECT_EQ(restarted.automatic()->scale_estimate(), saved.scale_z);

@@ -203,6 +203,17 @@ TEST(RosDiagnostics, LevelsFollowFaultsAndSigma) {
   report.stuck_samples = 0;
   entries = builder.build(e, running_diagnostics(), report, {});
   EXPECT_EQ(entries[0].level, app::DiagnosticLevel::Warn) << "rate 25 % off nominal";
+  const auto has_key = [](const app::DiagnosticEntry& entry, const std::string& key) {
+    for (const auto& [k, v] : entry.values)
+      if (k == key) return true;
+    return false;
+  };
+  EXPECT_FALSE(has_key(entries[1], "scale_z")) << "no scale learned, none shown";
+  core::Diagnostics learned = running_diagnostics();
+  learned.scale_z = 0.012;
+  learned.scale_z_sigma = 0.002;
+  entries = builder.build(e, learned, report, {});
+  EXPECT_TRUE(has_key(entries[1], "scale_z") && has_key(entries[1], "scale_z_sigma"));
 }
 
 TEST(RosConfig, ReadsTheRosTablesAndRefusesBadNames) {
