@@ -37,6 +37,7 @@ constexpr double kVerdictMemory = 0.995;
 // scale non-linearity, as 2 sigma).
 constexpr double kMinTurnForScaleDeg = 30.0;
 constexpr double kMinScaleVariance = 0.001 * 0.001;
+constexpr double kScaleGateSigmas = 3.0;
 
 }  // namespace
 
@@ -98,6 +99,9 @@ void AutoEstimator::learn_scale(double innovation_deg, double fix_variance_deg2)
   if (!(scale_variance_ > 0.0) || std::abs(turned_deg) < kMinTurnForScaleDeg) return;
   const double s = std::max(0.0, filters_[2].angle_variance()) + turned_deg * turned_deg * scale_variance_ +
                    std::max(0.0, fix_variance_deg2);
+  // An innovation the scale and the angle's variance cannot explain came from elsewhere (a
+  // wrong bias the filter believed): nothing to learn about the scale from it.
+  if (innovation_deg * innovation_deg > kScaleGateSigmas * kScaleGateSigmas * s) return;
   const double gain = -turned_deg * scale_variance_ / s;
   scale_estimate_ = std::clamp(scale_estimate_ + gain * innovation_deg, -kMaxLearnedScale, kMaxLearnedScale);
   scale_variance_ = std::max(kMinScaleVariance, scale_variance_ * (1.0 + gain * turned_deg));
