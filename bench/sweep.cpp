@@ -129,8 +129,10 @@ double quantile(std::vector<double> v, double q) {
 int main(int argc, char** argv) {
   const long seeds = argc > 1 ? std::strtol(argv[1], nullptr, 10) : 200;
   const double hours = argc > 2 ? std::strtod(argv[2], nullptr) : 2.0;
-  if (seeds < 1 || !(hours > 0.0)) {
-    std::fprintf(stderr, "usage: sweep [SEEDS (200)] [HOURS (2)]\n");
+  // Another range than 1..SEEDS: seeds the estimator's choices were not judged on (held out).
+  const long first_seed = argc > 3 ? std::strtol(argv[3], nullptr, 10) : 1;
+  if (seeds < 1 || !(hours > 0.0) || first_seed < 1) {
+    std::fprintf(stderr, "usage: sweep [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)]\n");
     return 64;
   }
   std::vector<SeedResult> results(static_cast<std::size_t>(seeds));
@@ -139,7 +141,7 @@ int main(int argc, char** argv) {
   for (unsigned w = 0; w < std::max(1u, std::thread::hardware_concurrency()); ++w) {
     workers.emplace_back([&] {
       for (long k = next++; k < seeds; k = next++)
-        results[static_cast<std::size_t>(k)] = run_seed(static_cast<std::uint64_t>(k + 1), hours);
+        results[static_cast<std::size_t>(k)] = run_seed(static_cast<std::uint64_t>(k + first_seed), hours);
     });
   }
   for (auto& w : workers) w.join();
