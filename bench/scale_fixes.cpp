@@ -76,8 +76,8 @@ SeedResult run_seed(std::uint64_t seed, double hours, double fix_every_s) {
     within += direction_error_deg(truth.heading_deg, now.heading_deg) <= 2.0 * now.heading_sigma_deg;
     ++outputs;
   }
-  r.learned = learning.automatic()->scale_estimate();
-  r.learned_sigma = learning.automatic()->scale_sigma();
+  r.learned = learning.automatic()->scale().estimate();
+  r.learned_sigma = learning.automatic()->scale().sigma();
   r.within_two_sigma = outputs > 0 ? static_cast<double>(within) / static_cast<double>(outputs) : 0.0;
   return r;
 }

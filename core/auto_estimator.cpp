@@ -32,23 +32,17 @@ constexpr double kModelMisfitDpsPerC = 0.003;  // a linear fit to a curved bias,
 constexpr double kUnconditionalRecoveryFactor = 10.0;
 constexpr double kMostlyRejecting = 0.8;
 constexpr double kVerdictMemory = 0.995;
-// Learning the z scale factor from heading fixes: only over a turn this large, never more than
-// 5 % (beyond the datasheet's +-2 %), and never surer than 0.1 % (the datasheet's 0.2 % of full
-// scale non-linearity, as 2 sigma).
-constexpr double kMinTurnForScaleDeg = 30.0;
-constexpr double kMinScaleVariance = 0.001 * 0.001;
-constexpr double kScaleGateSigmas = 3.0;
 
 }  // namespace
 
 AutoEstimator::AutoEstimator(const BiasSettings& segments, const AutoSettings& settings)
     : segments_(segments),
       settings_(settings),
+      scale_(settings.scale_factor_sigma),
       models_(segments, settings),
       walk_dps2_per_s_(settings.bias_walk_dps_rt_s * settings.bias_walk_dps_rt_s),
       in_startup_(segments.still_at_start) {
   segment_.blocks = BlockMeans(settings_.block_s);
-  scale_variance_ = settings_.scale_factor_sigma * settings_.scale_factor_sigma;
   if (!in_startup_) {
     for (auto& filter : filters_) filter.reset(0.0, kUnknownBiasSigmaDps * kUnknownBiasSigmaDps);
   }
@@ -74,7 +68,7 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   // The scale factor's share (as it was before this fix) enters the fix's weighting; after it,
   // turning counts from here.
   const double scale_share_deg2 = scale_variance_deg2();
-  learn_scale(fix_deg - before_deg, variance_deg2);
+  scale_.learn(fix_deg - before_deg, before_deg - turned_from_deg_, filters_[2].angle_variance(), variance_deg2);
   filters_[2].widen_angle(scale_share_deg2);
   if (variance_deg2 <= 0.0) {
     filters_[2].fix_angle(fix_deg);
@@ -88,33 +82,6 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   outlier_ = Outlier{};
   turned_from_deg_ = filters_[2].angle_deg();
   return filters_[2].angle_deg() - before_deg;
-}
-
-void AutoEstimator::learn_scale(double innovation_deg, double fix_variance_deg2) {
-  // The z scale error left after the correction so far, d, made an error of turned * d since
-  // the last fix: the innovation measures it, H = -turned, against the angle's own variance
-  // and the fix's. A floor on the variance and a bound on the estimate keep one fix with an
-  // error of another cause (a wrong bias the filter did not know of) from fixing the scale.
-  const double turned_deg = filters_[2].angle_deg() - turned_from_deg_;
-  if (!(scale_variance_ > 0.0) || std::abs(turned_deg) < kMinTurnForScaleDeg) return;
-  const double s = std::max(0.0, filters_[2].angle_variance()) + turned_deg * turned_deg * scale_variance_ +
-                   std::max(0.0, fix_variance_deg2);
-  // An innovation the scale and the angle's variance cannot explain came from elsewhere (a
-  // wrong bias the filter believed): nothing to learn about the scale from it.
-  if (innovation_deg * innovation_deg > kScaleGateSigmas * kScaleGateSigmas * s) return;
-  const double gain = -turned_deg * scale_variance_ / s;
-  scale_estimate_ = std::clamp(scale_estimate_ + gain * innovation_deg, -kMaxLearnedScale, kMaxLearnedScale);
-  scale_variance_ = std::max(kMinScaleVariance, scale_variance_ * (1.0 + gain * turned_deg));
-  scale_gain_ = 1.0 / (1.0 + scale_estimate_);
-  scale_learned_ = true;
-}
-
-void AutoEstimator::restore_scale(double estimate, double sigma) {
-  scale_estimate_ = std::clamp(estimate, -kMaxLearnedScale, kMaxLearnedScale);
-  scale_variance_ =
-      std::clamp(sigma * sigma, kMinScaleVariance, settings_.scale_factor_sigma * settings_.scale_factor_sigma);
-  scale_gain_ = 1.0 / (1.0 + scale_estimate_);
-  scale_learned_ = true;
 }
 
 void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {
@@ -559,21 +526,16 @@ void AutoEstimator::propagate(const Sample& sample, double dt_s) {
                                                        models_.process_white_dps2_s(axis, dt_s), walk_dps2_per_s_);
   }
   Vec3 turn_rate = sample.rate_dps - bias_dps();
-  turn_rate.z() *= scale_gain_;
+  turn_rate.z() *= scale_.gain();
   attitude_.add(turn_rate, dt_s);
-}
-
-double AutoEstimator::scale_variance_deg2() const {
-  const double turned_deg = filters_[2].angle_deg() - turned_from_deg_;
-  return scale_variance_ * turned_deg * turned_deg;
 }
 
 double AutoEstimator::rate_for_angle(const Vec3& rate_dps, int axis) const {
   // The filter integrates (rate - bias): the z turn is corrected by the scale learned from
   // heading fixes, the bias (measured where the rate is zero) is not.
-  if (axis != 2 || scale_gain_ == 1.0) return rate_dps[axis];
+  if (axis != 2 || scale_.gain() == 1.0) return rate_dps[axis];
   const double bias = filters_[2].bias_dps();
-  return bias + (rate_dps.z() - bias) * scale_gain_;
+  return bias + (rate_dps.z() - bias) * scale_.gain();
 }
 
 Vec3 AutoEstimator::bias_dps() const {

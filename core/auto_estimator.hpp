@@ -10,7 +10,6 @@
 //  - a bias-versus-temperature model that carries the bias while the platform drives;
 //  - honest uncertainty: heading variance from white noise and bias uncertainty.
 #include <array>
-#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -20,6 +19,7 @@
 #include "core/bias_tracker.hpp"
 #include "core/estimate.hpp"
 #include "core/noise_density.hpp"
+#include "core/scale_factor.hpp"
 #include "core/segment_judge.hpp"
 #include "core/segment_stats.hpp"
 #include "core/sensor_models.hpp"
@@ -39,12 +39,10 @@ class AutoEstimator {
   MotionHint motion_hint() const { return hint_; }
   // Segments the vehicle called stopped that the gyro showed turning (the gyro won).
   std::uint64_t hint_conflicts() const { return hint_conflicts_; }
-  // The z scale factor learned from heading fixes (measured = true * (1 + s)), and its sigma.
-  double scale_estimate() const { return scale_estimate_; }
-  double scale_sigma() const { return std::sqrt(scale_variance_); }
-  bool scale_learned() const { return scale_learned_; }
+  // The z scale factor, learned from heading fixes (measured = true * (1 + s)).
+  const ScaleFactor& scale() const { return scale_; }
   // Restores a learned scale factor (after a restart); its sigma no wider than configured.
-  void restore_scale(double estimate, double sigma);
+  void restore_scale(double estimate, double sigma) { scale_.restore(estimate, sigma); }
   // Restores a bias (after a restart) with its sigma; ends the start-up phase.
   void set_bias(const Vec3& bias_dps, const Vec3& sigma_dps);
   // Restores the noise figures learned before a restart (unless configured): without them a
@@ -184,16 +182,11 @@ class AutoEstimator {
   AutoSettings settings_;
   std::array<AxisFilter, 3> filters_{};
   double turned_from_deg_ = 0.0;  // the heading at start, restore or the last fix
-  // The z scale factor: measured = true * (1 + s). Its estimate (learned from heading fixes)
-  // corrects the turn integrated; its variance, times the turn since the last fix squared, is
-  // the heading variance it adds.
-  double scale_estimate_ = 0.0;
-  double scale_variance_ = 0.0;
-  double scale_gain_ = 1.0;  // 1 / (1 + scale_estimate_)
-  bool scale_learned_ = false;
-  double scale_variance_deg2() const;
+  ScaleFactor scale_;
+  double scale_variance_deg2() const {
+    return scale_.heading_variance_deg2(filters_[2].angle_deg() - turned_from_deg_);
+  }
   double rate_for_angle(const Vec3& rate_dps, int axis) const;
-  void learn_scale(double innovation_deg, double fix_variance_deg2);
   SensorModels models_;
   AttitudeIntegrator attitude_;
   Segment segment_;

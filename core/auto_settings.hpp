@@ -71,8 +71,4 @@ struct AutoSettings {
 
 inline const AutoSettings kDefaultAutoSettings{};
 
-// The z scale factor learned from heading fixes stays within this (beyond the datasheet's
-// +-2 %): a larger one says a fix carried an error of another cause.
-inline constexpr double kMaxLearnedScale = 0.05;
-
 }  // namespace headingd::core

@@ -145,9 +145,9 @@ Diagnostics Estimator::diagnostics() const {
   d.heading_fixes = heading_fixes_;
   d.heading_fix_offset_deg = heading_fix_offset_deg_;
   if (const auto* a = std::get_if<AutoEstimator>(&impl_)) {
-    if (a->scale_learned()) {
-      d.scale_z = a->scale_estimate();
-      d.scale_z_sigma = a->scale_sigma();
+    if (a->scale().learned()) {
+      d.scale_z = a->scale().estimate();
+      d.scale_z_sigma = a->scale().sigma();
     }
     d.retracted_segments = a->retracted_segments();
     d.bias_recoveries = a->bias_recoveries();
@@ -190,9 +190,9 @@ LearnedState Estimator::learned_now() const {
   if (const auto* a = std::get_if<AutoEstimator>(&impl_)) {
     state.sigma_still_dps = a->sigma_still_dps();
     state.arw_dps_rt_hz = a->noise_density_dps_rt_hz();
-    if (a->scale_learned()) {
-      state.scale_z = a->scale_estimate();
-      state.scale_z_sigma = a->scale_sigma();
+    if (a->scale().learned()) {
+      state.scale_z = a->scale().estimate();
+      state.scale_z_sigma = a->scale().sigma();
     }
     for (std::size_t axis = 0; axis < 3; ++axis) {
       state.temperature_sums[axis] = a->temperature_model(static_cast<int>(axis)).sums();

@@ -17,7 +17,7 @@
 #include <sstream>
 #include <vector>
 
-#include "core/auto_settings.hpp"
+#include "core/scale_factor.hpp"
 
 namespace headingd::app {
 namespace {

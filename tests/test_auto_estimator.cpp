@@ -137,7 +137,7 @@ TEST(AutoEstimator, TheScaleFactorCountsTheNetTurnSinceTheLastFix) {
   EXPECT_NEAR(added_sigma(), 0.01 * 360.0, 0.1) << "the net turn, not the turning";
   scaled.estimator().set_heading(0.0, 0.0);
   plain.estimator().set_heading(0.0, 0.0);
-  const double scale_sigma = scaled.estimator().automatic()->scale_sigma();
+  const double scale_sigma = scaled.estimator().automatic()->scale().sigma();
   EXPECT_LT(scale_sigma, 0.01) << "a fix after a turn tells the scale factor too";
   both(3.0, 30.0);  // 90 degrees after the fix
   both(5.0, 0.0);
@@ -158,7 +158,7 @@ TEST(AutoEstimator, TheScaleFactorIsLearnedFromHeadingFixes) {
   EXPECT_NEAR(first_error, -0.015 * 720.0, 0.5);
   rig.estimator().set_heading(rig.estimator().last().heading_deg + first_error, 0.01);
   const auto* automatic = rig.estimator().automatic();
-  EXPECT_NEAR(automatic->scale_estimate(), 0.015, 0.003);
+  EXPECT_NEAR(automatic->scale().estimate(), 0.015, 0.003);
   rig.run(24.0, 30.0);
   rig.run(5.0, 0.0);
   EXPECT_LT(std::abs(rig.error()), 0.25 * std::abs(first_error)) << "the turns after the fix are corrected";
@@ -176,12 +176,12 @@ TEST(AutoEstimator, ALearnedScaleFactorSurvivesARestart) {
   rig.estimator().set_heading(rig.estimator().last().heading_deg + rig.error(), 0.01);
   const LearnedState saved = rig.estimator().learned();
   ASSERT_FALSE(std::isnan(saved.scale_z_sigma));
-  EXPECT_EQ(saved.scale_z, rig.estimator().automatic()->scale_estimate());
+  EXPECT_EQ(saved.scale_z, rig.estimator().automatic()->scale().estimate());
   EXPECT_EQ(rig.estimator().diagnostics().scale_z, saved.scale_z);
   Estimator restarted(settings);
   restarted.restore(saved);
-  EXPECT_EQ(restarted.automatic()->scale_estimate(), saved.scale_z);
-  EXPECT_EQ(restarted.automatic()->scale_sigma(), saved.scale_z_sigma);
+  EXPECT_EQ(restarted.automatic()->scale().estimate(), saved.scale_z);
+  EXPECT_EQ(restarted.automatic()->scale().sigma(), saved.scale_z_sigma);
   LearnedState absurd = saved;
   absurd.scale_z = 0.2;
   EXPECT_THROW(restarted.restore(absurd), std::invalid_argument);

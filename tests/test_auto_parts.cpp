@@ -1,5 +1,5 @@
 // The parts of method auto, each alone: the angle/bias Kalman filter, the temperature
-// model, the noise-density estimate.
+// model, the noise-density estimate, the scale factor.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +7,7 @@
 
 #include "core/axis_filter.hpp"
 #include "core/noise_density.hpp"
+#include "core/scale_factor.hpp"
 #include "core/temperature_model.hpp"
 
 using namespace headingd::core;
@@ -43,6 +44,30 @@ TEST(AxisFilter, AngleFixPullsAngle) {
   filter.measure_angle(5.0, 1e-9);
   EXPECT_NEAR(filter.angle_deg(), 5.0, 1e-4);
   EXPECT_LT(filter.angle_variance(), 1e-8);
+}
+
+TEST(ScaleFactor, AFixAfterATurnMeasuresItAndOneItCannotExplainDoesNot) {
+  // A gyro 1 % high turned 720 degrees: the heading is 7.2 degrees ahead of the fix.
+  ScaleFactor scale(0.01);
+  EXPECT_NEAR(scale.heading_variance_deg2(720.0), 7.2 * 7.2, 1e-9);
+  scale.learn(-7.2, 720.0, 0.01, 0.01);
+  EXPECT_TRUE(scale.learned());
+  EXPECT_NEAR(scale.estimate(), 0.01, 0.0002);
+  EXPECT_NEAR(scale.gain(), 1.0 / 1.01, 0.0002);
+  EXPECT_LT(scale.sigma(), 0.001 + 1e-12) << "tightened, to the floor of 0.1 %";
+  EXPECT_GE(scale.sigma(), 0.001 - 1e-12);
+  ScaleFactor other(0.01);
+  other.learn(-7.2, 20.0, 0.01, 0.01);  // too short a turn to tell
+  EXPECT_FALSE(other.learned());
+  other.learn(-60.0, 720.0, 0.01, 0.01);  // 8 sigma of what 1 % could do: another cause
+  EXPECT_FALSE(other.learned());
+  EXPECT_EQ(other.estimate(), 0.0);
+  ScaleFactor none(0.0);
+  none.learn(-7.2, 720.0, 0.01, 0.01);
+  EXPECT_FALSE(none.learned()) << "no uncertainty configured, nothing to learn";
+  none.restore(0.2, 0.5);  // clamped to what a gyro of this kind can be, no wider than configured
+  EXPECT_EQ(none.estimate(), kMaxLearnedScale);
+  EXPECT_EQ(none.sigma(), 0.0);
 }
 
 TEST(TemperatureModel, LearnsLinearSlopeOnceSpreadIsEnough) {
