@@ -6,7 +6,7 @@
 // world's scale error, the learned one with its sigma, the median |error| just before a fix for
 // both, and the share of 10 Hz outputs within 2 sigma (learning run; errors as directions,
 // modulo 360 degrees); then the summary.
-// Usage: scale_fixes [SEEDS (200)] [HOURS (2)] [FIX_EVERY_S (600)]
+// Usage: scale_fixes [SEEDS (200)] [HOURS (2)] [FIX_EVERY_S (600)] [FIRST_SEED (1)]
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -88,8 +88,9 @@ int main(int argc, char** argv) {
   const long seeds = argc > 1 ? std::strtol(argv[1], nullptr, 10) : 200;
   const double hours = argc > 2 ? std::strtod(argv[2], nullptr) : 2.0;
   const double fix_every_s = argc > 3 ? std::strtod(argv[3], nullptr) : 600.0;
-  if (seeds < 1 || !(hours > 0.0) || !(fix_every_s > 0.0)) {
-    std::fprintf(stderr, "usage: scale_fixes [SEEDS (200)] [HOURS (2)] [FIX_EVERY_S (600)]\n");
+  const long first_seed = argc > 4 ? std::strtol(argv[4], nullptr, 10) : 1;
+  if (seeds < 1 || !(hours > 0.0) || !(fix_every_s > 0.0) || first_seed < 1) {
+    std::fprintf(stderr, "usage: scale_fixes [SEEDS (200)] [HOURS (2)] [FIX_EVERY_S (600)] [FIRST_SEED (1)]\n");
     return 64;
   }
   std::vector<SeedResult> results(static_cast<std::size_t>(seeds));
@@ -98,7 +99,7 @@ int main(int argc, char** argv) {
   for (unsigned w = 0; w < std::max(1u, std::thread::hardware_concurrency()); ++w) {
     workers.emplace_back([&] {
       for (long k = next++; k < seeds; k = next++)
-        results[static_cast<std::size_t>(k)] = run_seed(static_cast<std::uint64_t>(k + 1), hours, fix_every_s);
+        results[static_cast<std::size_t>(k)] = run_seed(static_cast<std::uint64_t>(k + first_seed), hours, fix_every_s);
     });
   }
   for (auto& w : workers) w.join();
