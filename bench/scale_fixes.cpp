@@ -8,14 +8,13 @@
 // modulo 360 degrees); then the summary.
 // Usage: scale_fixes [SEEDS (200)] [HOURS (2)] [FIX_EVERY_S (600)] [FIRST_SEED (1)]
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <thread>
 #include <vector>
 
 #include "core/estimator.hpp"
+#include "seed_pool.hpp"
 #include "sim/gyro_simulator.hpp"
 
 using namespace headingd;
@@ -93,16 +92,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: scale_fixes [SEEDS (200)] [HOURS (2)] [FIX_EVERY_S (600)] [FIRST_SEED (1)]\n");
     return 64;
   }
-  std::vector<SeedResult> results(static_cast<std::size_t>(seeds));
-  std::atomic<long> next{0};
-  std::vector<std::thread> workers;
-  for (unsigned w = 0; w < std::max(1u, std::thread::hardware_concurrency()); ++w) {
-    workers.emplace_back([&] {
-      for (long k = next++; k < seeds; k = next++)
-        results[static_cast<std::size_t>(k)] = run_seed(static_cast<std::uint64_t>(k + first_seed), hours, fix_every_s);
-    });
-  }
-  for (auto& w : workers) w.join();
+  const std::vector<SeedResult> results = bench::run_seeds<SeedResult>(
+      seeds, first_seed, [&](std::uint64_t seed) { return run_seed(seed, hours, fix_every_s); });
 
   std::printf("%5s %8s %8s %7s %5s | %12s %12s | %7s\n", "seed", "scale %", "learned", "sigma", "fixes", "|E| learning",
               "|E| plain", "in 2sig");

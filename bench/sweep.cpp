@@ -7,16 +7,15 @@
 // error against the truth lies within its own 2 sigma. Per-seed rows, then the summary.
 // Seeds run on every core; the figures do not depend on how many.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/estimator.hpp"
+#include "seed_pool.hpp"
 #include "sim/gyro_simulator.hpp"
 
 using namespace headingd;
@@ -135,16 +134,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: sweep [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)]\n");
     return 64;
   }
-  std::vector<SeedResult> results(static_cast<std::size_t>(seeds));
-  std::atomic<long> next{0};
-  std::vector<std::thread> workers;
-  for (unsigned w = 0; w < std::max(1u, std::thread::hardware_concurrency()); ++w) {
-    workers.emplace_back([&] {
-      for (long k = next++; k < seeds; k = next++)
-        results[static_cast<std::size_t>(k)] = run_seed(static_cast<std::uint64_t>(k + first_seed), hours);
-    });
-  }
-  for (auto& w : workers) w.join();
+  const std::vector<SeedResult> results =
+      bench::run_seeds<SeedResult>(seeds, first_seed, [&](std::uint64_t seed) { return run_seed(seed, hours); });
 
   std::printf("%5s %5s %9s %8s | %21s | %9s %9s %9s | %7s\n", "seed", "Hz", "dps/C z", "floor", "auto max / RMS",
               "notemp", "C", "fusion", "in 2sig");
