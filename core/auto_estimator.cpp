@@ -478,6 +478,26 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
   return estimate_;
 }
 
+std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count) {
+  if (!started_ || in_startup_) return 0;
+  estimate_.closed = SegmentVerdict{};
+  std::size_t taken = 0;
+  for (; taken < count; ++taken) {
+    const Sample& sample = samples[taken];
+    // What update() would close on: left for it. Neither test depends on the temperature
+    // step, which update() applies first.
+    if (segment_full(sample.t_s) || range_gate_trips(sample.rate_dps)) break;
+    const double dt_s = sample.t_s - previous_t_s_;
+    previous_t_s_ = sample.t_s;
+    follow_temperature(sample.temp_c);
+    previous_temp_c_ = sample.temp_c;
+    add_to_segment(sample, dt_s);
+    propagate(sample, dt_s);
+  }
+  if (taken > 0) fill_estimate(samples[taken - 1]);
+  return taken;
+}
+
 void AutoEstimator::start(const Sample& sample) {
   started_ = true;
   if (!std::isfinite(startup_start_t_s_)) startup_start_t_s_ = sample.t_s;

@@ -10,6 +10,7 @@
 //  - a bias-versus-temperature model that carries the bias while the platform drives;
 //  - honest uncertainty: heading variance from white noise and bias uncertainty.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -33,6 +34,11 @@ class AutoEstimator {
   AutoEstimator(const BiasSettings& segments, const AutoSettings& settings);
 
   const Estimate& update(const Sample& sample);
+  // The samples from the first on, for as long as none of them is special (the start-up, a
+  // sample that closes a segment): the same arithmetic as update(), without an estimate per
+  // sample. Returns how many it took; the next one is for update(). last() then describes the
+  // last sample taken.
+  std::size_t advance(const Sample* samples, std::size_t count);
   const Estimate& last() const { return estimate_; }
 
   void set_motion_hint(MotionHint hint) { hint_ = hint; }

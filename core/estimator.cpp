@@ -79,7 +79,20 @@ const Estimate& Estimator::update(const Sample& sample) {
     fault_estimate_.t_s = sample.t_s;
     return fault_estimate_;
   }
-  const Estimate& e = std::visit([&](auto& impl) -> const Estimate& { return impl.update(sample); }, impl_);
+  return checked(std::visit([&](auto& impl) -> const Estimate& { return impl.update(sample); }, impl_));
+}
+
+std::size_t Estimator::advance(const Sample* samples, std::size_t count) {
+  auto* automatic = std::get_if<AutoEstimator>(&impl_);
+  if (fault_ || automatic == nullptr) return 0;
+  const std::size_t taken = automatic->advance(samples, count);
+  if (taken == 0) return 0;
+  samples_ += taken;
+  checked(automatic->last());
+  return taken;
+}
+
+const Estimate& Estimator::checked(const Estimate& e) {
   // One sum catches any NaN or infinity, summed in pairs so that the adds need not wait for
   // one another. The paper's methods have no sigma (NaN by design).
   const auto& q = e.attitude.coeffs();

@@ -1,6 +1,7 @@
 #include "io/estimates_writer.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace headingd::app {
 namespace {
@@ -30,6 +31,11 @@ bool EstimatesWriter::due(double t_s) {
     next_output_s_ = grid_origin_s_ + static_cast<double>(grid_step_ + 1) * period_s_;
   }
   return true;
+}
+
+double EstimatesWriter::next_due_s() const {
+  if (period_s_ == 0.0 || first_) return -std::numeric_limits<double>::infinity();
+  return next_output_s_ - 2.0 * kTimeEpsilonS;  // due() allows one epsilon; a margin beyond it
 }
 
 void EstimatesWriter::add(const core::Estimate& estimate) {

@@ -21,6 +21,9 @@ class EstimatesWriter {
   EstimatesWriter(CsvOut& out, double output_rate_hz, std::size_t rows_per_segment);
 
   void add(const core::Estimate& estimate);
+  // The earliest sample time that may be due for a row (minus infinity: every sample is);
+  // add() for an earlier one does nothing unless the estimate closes a segment.
+  double next_due_s() const;
   // Writes rows still waiting (their segment never closed, so still = 0) and flushes.
   void finish();
   std::uint64_t rows_written() const { return rows_written_; }

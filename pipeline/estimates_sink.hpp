@@ -15,6 +15,7 @@ class EstimatesSink final : public Sink {
   // the writer's wait buffer once. Throws OutputError when the file cannot be created.
   EstimatesSink(const std::string& path, double output_rate_hz, double source_rate_hz, double segment_s);
   void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) override;
+  double next_estimate_due_s() const override { return writer_->next_due_s(); }
   void finish(const core::Estimator& estimator, const core::SampleSource& source) override;
   std::uint64_t rows_written() const { return writer_->rows_written(); }
   const std::string& path() const { return out_.path(); }

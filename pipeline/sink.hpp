@@ -3,6 +3,7 @@
 // source delivered (for work at a slower pace: saving, status), then once at the end,
 // whatever ended the run. Sinks are finished in the reverse of the order they were added, so
 // the last one set up is the first one taken down (as chrony's main.c undoes its start-up).
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -28,6 +29,10 @@ class Sink {
   virtual void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) = 0;
   // False for sinks that only act per batch and at the end: the hot loop skips their add().
   virtual bool wants_samples() const { return true; }
+  // The earliest sample time whose estimate this sink needs next: samples before it may go by
+  // without add(), except those that close a segment (a replay's estimates at 10 Hz). The
+  // default, minus infinity, asks for every sample.
+  virtual double next_estimate_due_s() const { return -std::numeric_limits<double>::infinity(); }
   // After each batch from the source. May throw OutputError.
   virtual void batch_done(const core::Estimator& /*estimator*/, const core::SampleSource& /*source*/) {}
   // Once, at the end of the run, whatever ended it. May throw OutputError; the other sinks

@@ -1,9 +1,11 @@
 // Method auto as a whole, on crafted signals: short stops, creep, hints, uncertainty.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <tuple>
+#include <vector>
 
 #include "core/estimator.hpp"
 #include "sim/gyro_simulator.hpp"
@@ -347,5 +349,51 @@ TEST(AutoEstimator, ParkedAnHourWhileTheTemperatureRamps) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     EXPECT_GE(static_cast<double>(estimator.accepted_segments()), 0.95 * judged);
     EXPECT_LT(std::abs(truth.heading_deg - estimator.last().heading_deg), 0.1);
+  }
+}
+
+TEST(AutoEstimator, TheFastPathMovesTheStateExactlyAsUpdateDoes) {
+  // A replay takes the samples nobody looks at through Estimator::advance: a random world
+  // (turns, creep, stops, temperature) fed once sample by sample and once in runs of random
+  // length must agree bit for bit wherever the fast path hands back, and at the end.
+  for (const std::uint64_t seed : {3u, 8u}) {
+    headingd::drivers::GyroSimulator sim(*headingd::drivers::build_scenario("random", seed, 0.25), seed);
+    std::vector<Sample> samples;
+    Sample sample;
+    headingd::drivers::TruthPoint truth;
+    while (!sim.done()) {
+      sim.step(sample, truth);
+      samples.push_back(sample);
+    }
+    Estimator one_by_one;
+    std::vector<Estimate> expected;
+    expected.reserve(samples.size());
+    for (const Sample& s : samples) expected.push_back(one_by_one.update(s));
+
+    Estimator fast;
+    std::mt19937_64 rng(seed);
+    std::uniform_int_distribution<std::size_t> run_length(1, 3000);
+    std::size_t i = 0, advanced = 0, checked = 0;
+    while (i < samples.size()) {
+      const std::size_t taken = fast.advance(&samples[i], std::min(run_length(rng), samples.size() - i));
+      const Estimate& got = taken > 0 ? fast.last() : fast.update(samples[i]);
+      advanced += taken;
+      i += std::max<std::size_t>(taken, 1);
+      const Estimate& want = expected[i - 1];
+      ASSERT_EQ(got.t_s, want.t_s);
+      ASSERT_EQ(got.heading_deg, want.heading_deg) << "sample " << i;
+      ASSERT_EQ(got.attitude.coeffs(), want.attitude.coeffs()) << "sample " << i;
+      ASSERT_EQ(got.bias_dps, want.bias_dps) << "sample " << i;
+      ASSERT_EQ(got.heading_sigma_deg, want.heading_sigma_deg) << "sample " << i;
+      ASSERT_EQ(got.segment_index, want.segment_index) << "sample " << i;
+      ++checked;
+    }
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    EXPECT_EQ(fast.samples(), one_by_one.samples());
+    EXPECT_EQ(fast.accepted_segments(), one_by_one.accepted_segments());
+    EXPECT_EQ(fast.rejected_segments(), one_by_one.rejected_segments());
+    EXPECT_GT(fast.accepted_segments(), 10u);
+    EXPECT_GT(advanced, samples.size() * 3 / 4);  // the fast path did the bulk of the work
+    EXPECT_GT(checked, 100u);
   }
 }
