@@ -1,5 +1,7 @@
 #include "core/attitude_integrator.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/units.hpp"
@@ -19,17 +21,15 @@ constexpr unsigned kNormaliseEvery = 32;
 
 }  // namespace
 
-void AttitudeIntegrator::add(const Vec3& rate_dps, double dt_s) {
-  // Written for a short chain of dependent operations (it runs on every sample and the next
-  // sample cannot start before it ends): squares and sums in pairs, the series by Estrin's
-  // scheme rather than Horner's, the product's sums in pairs.
+// Written for a short chain of dependent operations: squares and sums in pairs, the series by
+// Estrin's scheme rather than Horner's.
+[[gnu::always_inline]] inline AttitudeIntegrator::Step AttitudeIntegrator::step_of(double x_dps, double y_dps,
+                                                                                   double z_dps, double dt_s) {
   const double scale = kRadPerDeg * dt_s;
-  const double rx = rate_dps.x() * scale, ry = rate_dps.y() * scale, rz = rate_dps.z() * scale;
-  const double wx = rate_dps.x(), wy = rate_dps.y(), wz = rate_dps.z();
-  const double h2 = (wx * wx + (wy * wy + wz * wz)) * (0.25 * scale * scale);  // half angle, squared
+  const double h2 = (x_dps * x_dps + (y_dps * y_dps + z_dps * z_dps)) * (0.25 * scale * scale);  // half angle^2
   double c = 0.0;
   double s = 0.0;  // sin(h) / angle, so that the step's vector part is s * rotation
-  if (h2 < kSeriesHalfAngle2) {
+  if (h2 < kSeriesHalfAngle2) [[likely]] {
     const double h4 = h2 * h2;
     c = (1.0 - 0.5 * h2) + h4 * (1.0 / 24 - h2 * (1.0 / 720));
     s = (0.5 - h2 * (0.5 / 6)) + h4 * (0.5 / 120 - h2 * (0.5 / 5040));
@@ -38,17 +38,38 @@ void AttitudeIntegrator::add(const Vec3& rate_dps, double dt_s) {
     c = std::cos(0.5 * angle);
     s = std::sin(0.5 * angle) / angle;
   }
-  const double sx = s * rx, sy = s * ry, sz = s * rz;
-  // q <- q * step (Hamilton product), written out: no Eigen temporaries on every sample.
-  const double w = q_.w(), x = q_.x(), y = q_.y(), z = q_.z();
-  q_.w() = (w * c - x * sx) - (y * sy + z * sz);
-  q_.x() = (w * sx + x * c) + (y * sz - z * sy);
-  q_.y() = (w * sy + y * c) + (z * sx - x * sz);
-  q_.z() = (w * sz + z * c) + (x * sy - y * sx);
-  if (++since_normalised_ == kNormaliseEvery) {
-    since_normalised_ = 0;
-    q_.normalize();
+  return {c, s * (x_dps * scale), s * (y_dps * scale), s * (z_dps * scale)};
+}
+
+void AttitudeIntegrator::add_all(const Turn* turns, std::size_t count) {
+  // The rotations of a block first, then their products: q <- q * step (Hamilton product),
+  // written out with its sums in pairs, on local copies of q. This is the chain every sample
+  // waits on; nothing else stands in it.
+  constexpr std::size_t kBlock = 64;
+  std::array<Step, kBlock> steps;
+  double w = q_.w(), x = q_.x(), y = q_.y(), z = q_.z();
+  for (std::size_t from = 0; from < count; from += kBlock) {
+    const std::size_t n = std::min(kBlock, count - from);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Turn& t = turns[from + i];
+      steps[i] = step_of(t.x_dps, t.y_dps, t.z_dps, t.dt_s);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const double c = steps[i].c, sx = steps[i].sx, sy = steps[i].sy, sz = steps[i].sz;
+      const double w1 = (w * c - x * sx) - (y * sy + z * sz);
+      const double x1 = (w * sx + x * c) + (y * sz - z * sy);
+      const double y1 = (w * sy + y * c) + (z * sx - x * sz);
+      const double z1 = (w * sz + z * c) + (x * sy - y * sx);
+      w = w1, x = x1, y = y1, z = z1;
+      if (++since_normalised_ == kNormaliseEvery) [[unlikely]] {
+        since_normalised_ = 0;
+        Eigen::Quaterniond q(w, x, y, z);
+        q.normalize();
+        w = q.w(), x = q.x(), y = q.y(), z = q.z();
+      }
+    }
   }
+  q_ = Eigen::Quaterniond(w, x, y, z);
 }
 
 }  // namespace headingd::core

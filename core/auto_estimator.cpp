@@ -7,6 +7,9 @@
 
 #include "core/units.hpp"
 
+// The steps every sample takes, inlined into update() and advance() alike.
+#define HEADINGD_HOT [[gnu::always_inline]] inline
+
 namespace headingd::core {
 namespace {
 
@@ -104,7 +107,7 @@ void AutoEstimator::begin_segment(double t_s) {
   segment_.temperature_shift_var.setZero();
 }
 
-void AutoEstimator::add_to_segment(const Sample& sample, double dt_s) {
+HEADINGD_HOT void AutoEstimator::add_to_segment(const Sample& sample, double dt_s) {
   segment_.stats.add(sample.rate_dps);
   segment_.blocks.add(sample.rate_dps, dt_s);
   segment_.duration_s += dt_s;
@@ -114,11 +117,17 @@ void AutoEstimator::add_to_segment(const Sample& sample, double dt_s) {
   }
 }
 
-bool AutoEstimator::range_gate_trips(const Vec3& rate_dps) const {
-  if (segment_.stats.count() == 0) return false;
-  const Vec3 low = segment_.stats.min_dps().cwiseMin(rate_dps);
-  const Vec3 high = segment_.stats.max_dps().cwiseMax(rate_dps);
-  return ((high - low).array() > settings_.k_range * models_.sigma_still_dps().array()).any();
+HEADINGD_HOT bool AutoEstimator::range_exceeds(const Vec3& rate_dps, const Vec3& gate_dps) const {
+  const Vec3& low = segment_.stats.min_dps();
+  const Vec3& high = segment_.stats.max_dps();
+  const auto beyond = [&](Eigen::Index a) {
+    return std::max(high[a], rate_dps[a]) - std::min(low[a], rate_dps[a]) > gate_dps[a];
+  };
+  return beyond(0) || beyond(1) || beyond(2);
+}
+
+HEADINGD_HOT bool AutoEstimator::range_gate_trips(const Vec3& rate_dps) const {
+  return segment_.stats.count() > 0 && range_exceeds(rate_dps, settings_.k_range * models_.sigma_still_dps());
 }
 
 SegmentVerdict AutoEstimator::close_startup() {
@@ -444,7 +453,7 @@ void AutoEstimator::recover_bias() {
   ++recoveries_;
 }
 
-void AutoEstimator::follow_temperature(double temp_c) {
+HEADINGD_HOT void AutoEstimator::follow_temperature(double temp_c) {
   if (!models_.follows_temperature(temp_c, previous_temp_c_)) return;
   for (int axis = 0; axis < 3; ++axis) {
     double shift = 0.0, variance = 0.0;
@@ -478,26 +487,6 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
   return estimate_;
 }
 
-std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count) {
-  if (!started_ || in_startup_) return 0;
-  estimate_.closed = SegmentVerdict{};
-  std::size_t taken = 0;
-  for (; taken < count; ++taken) {
-    const Sample& sample = samples[taken];
-    // What update() would close on: left for it. Neither test depends on the temperature
-    // step, which update() applies first.
-    if (segment_full(sample.t_s) || range_gate_trips(sample.rate_dps)) break;
-    const double dt_s = sample.t_s - previous_t_s_;
-    previous_t_s_ = sample.t_s;
-    follow_temperature(sample.temp_c);
-    previous_temp_c_ = sample.temp_c;
-    add_to_segment(sample, dt_s);
-    propagate(sample, dt_s);
-  }
-  if (taken > 0) fill_estimate(samples[taken - 1]);
-  return taken;
-}
-
 void AutoEstimator::start(const Sample& sample) {
   started_ = true;
   if (!std::isfinite(startup_start_t_s_)) startup_start_t_s_ = sample.t_s;
@@ -508,7 +497,7 @@ void AutoEstimator::start(const Sample& sample) {
   fill_estimate(sample);
 }
 
-bool AutoEstimator::segment_full(double t_s) const {
+HEADINGD_HOT bool AutoEstimator::segment_full(double t_s) const {
   return t_s - segment_.start_t_s >= segments_.segment_s - kTimeEpsilonS;
 }
 
@@ -540,17 +529,25 @@ SegmentVerdict AutoEstimator::close_segment_if_due(const Sample& sample) {
 }
 
 void AutoEstimator::propagate(const Sample& sample, double dt_s) {
+  propagate_filters(sample, dt_s);
+  const AttitudeIntegrator::Turn turn = turn_of(sample, dt_s);
+  attitude_.add_all(&turn, 1);
+}
+
+HEADINGD_HOT void AutoEstimator::propagate_filters(const Sample& sample, double dt_s) {
   models_.track_vibration(sample.rate_dps, dt_s);
   for (int axis = 0; axis < 3; ++axis) {
     filters_[static_cast<std::size_t>(axis)].propagate(rate_for_angle(sample.rate_dps, axis), dt_s,
                                                        models_.process_white_dps2_s(axis, dt_s), walk_dps2_per_s_);
   }
-  Vec3 turn_rate = sample.rate_dps - bias_dps();
-  turn_rate.z() *= scale_.gain();
-  attitude_.add(turn_rate, dt_s);
 }
 
-double AutoEstimator::rate_for_angle(const Vec3& rate_dps, int axis) const {
+HEADINGD_HOT AttitudeIntegrator::Turn AutoEstimator::turn_of(const Sample& sample, double dt_s) const {
+  return {sample.rate_dps.x() - filters_[0].bias_dps(), sample.rate_dps.y() - filters_[1].bias_dps(),
+          (sample.rate_dps.z() - filters_[2].bias_dps()) * scale_.gain(), dt_s};
+}
+
+HEADINGD_HOT double AutoEstimator::rate_for_angle(const Vec3& rate_dps, int axis) const {
   // The filter integrates (rate - bias): the z turn is corrected by the scale learned from
   // heading fixes, the bias (measured where the rate is zero) is not.
   if (axis != 2 || scale_.gain() == 1.0) return rate_dps[axis];
@@ -581,6 +578,43 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
   }
   estimate_.in_startup = in_startup_;
   estimate_.segment_index = segment_index_;
+}
+
+std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, double until_t_s) {
+  if (!started_ || in_startup_) return 0;
+  estimate_.closed = SegmentVerdict{};
+  // The attitude takes each chunk's turns after the rest has seen them (the bias they are
+  // corrected by is the one in force at each sample, as in update()): its chain of products
+  // then runs without the rest of the work in between.
+  constexpr std::size_t kChunk = 128;
+  std::array<AttitudeIntegrator::Turn, kChunk> turns;
+  const Vec3 gate_dps = settings_.k_range * models_.sigma_still_dps();  // the segment under way has samples
+  std::size_t taken = 0;
+  bool special = false;
+  while (taken < count && !special) {
+    std::size_t n = 0;
+    for (; n < kChunk && taken < count; ++n, ++taken) {
+      const Sample& sample = samples[taken];
+      // What update() would close on is left for it (neither test depends on the temperature
+      // step, which update() applies first), and so are a sample someone wants the estimate of
+      // and one the pipeline's door must refuse.
+      if (!(sample.t_s < until_t_s) || !plausible(sample) || segment_full(sample.t_s) ||
+          range_exceeds(sample.rate_dps, gate_dps)) {
+        special = true;
+        break;
+      }
+      const double dt_s = sample.t_s - previous_t_s_;
+      previous_t_s_ = sample.t_s;
+      follow_temperature(sample.temp_c);
+      previous_temp_c_ = sample.temp_c;
+      add_to_segment(sample, dt_s);
+      propagate_filters(sample, dt_s);
+      turns[n] = turn_of(sample, dt_s);
+    }
+    attitude_.add_all(turns.data(), n);
+  }
+  if (taken > 0) fill_estimate(samples[taken - 1]);
+  return taken;
 }
 
 }  // namespace headingd::core

@@ -35,10 +35,10 @@ class AutoEstimator {
 
   const Estimate& update(const Sample& sample);
   // The samples from the first on, for as long as none of them is special (the start-up, a
-  // sample that closes a segment): the same arithmetic as update(), without an estimate per
-  // sample. Returns how many it took; the next one is for update(). last() then describes the
-  // last sample taken.
-  std::size_t advance(const Sample* samples, std::size_t count);
+  // sample that closes a segment, one not plausible, one at or after `until_t_s`): the same
+  // arithmetic as update(), without an estimate per sample. Returns how many it took; the
+  // next one is for update(). last() then describes the last sample taken.
+  std::size_t advance(const Sample* samples, std::size_t count, double until_t_s);
   const Estimate& last() const { return estimate_; }
 
   void set_motion_hint(MotionHint hint) { hint_ = hint; }
@@ -101,11 +101,16 @@ class AutoEstimator {
   void hold_during_startup(const Sample& sample, double dt_s);
   SegmentVerdict close_segment_if_due(const Sample& sample);
   void propagate(const Sample& sample, double dt_s);
+  void propagate_filters(const Sample& sample, double dt_s);
+  // The sample's rate as the attitude takes it: bias-corrected, z by the learned scale.
+  AttitudeIntegrator::Turn turn_of(const Sample& sample, double dt_s) const;
   void fill_estimate(const Sample& sample);
 
   void begin_segment(double t_s);
   void add_to_segment(const Sample& sample, double dt_s);
   bool range_gate_trips(const Vec3& rate_dps) const;
+  // Whether the segment's range with this sample exceeds the gate (given per axis).
+  bool range_exceeds(const Vec3& rate_dps, const Vec3& gate_dps) const;
   SegmentVerdict close_startup();
   // Judges a closed segment (segment_judge) and applies the verdict.
   SegmentVerdict close_segment();

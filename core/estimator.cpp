@@ -82,10 +82,10 @@ const Estimate& Estimator::update(const Sample& sample) {
   return checked(std::visit([&](auto& impl) -> const Estimate& { return impl.update(sample); }, impl_));
 }
 
-std::size_t Estimator::advance(const Sample* samples, std::size_t count) {
+std::size_t Estimator::advance(const Sample* samples, std::size_t count, double until_t_s) {
   auto* automatic = std::get_if<AutoEstimator>(&impl_);
   if (fault_ || automatic == nullptr) return 0;
-  const std::size_t taken = automatic->advance(samples, count);
+  const std::size_t taken = automatic->advance(samples, count, until_t_s);
   if (taken == 0) return 0;
   samples_ += taken;
   checked(automatic->last());

@@ -32,12 +32,12 @@ class Estimator {
   explicit Estimator(const EstimatorSettings& settings = kDefaultEstimatorSettings);
 
   const Estimate& update(const Sample& sample);
-  // Samples whose estimates nobody needs, from the first on, for as long as none is special
-  // (AutoEstimator::advance): the state moves exactly as update() moves it. Returns how many
-  // it took, 0 when the next one is for update() (the paper's methods, always); last() then
-  // describes the last one taken. The output invariant is checked once, at the end: a fault
-  // freezes the estimate at the last finite one checked.
-  std::size_t advance(const Sample* samples, std::size_t count);
+  // Samples whose estimates nobody needs (those before `until_t_s`), from the first on, for as
+  // long as none is special (AutoEstimator::advance): the state moves exactly as update()
+  // moves it. Returns how many it took, 0 when the next one is for update() (the paper's
+  // methods, always); last() then describes the last one taken. The output invariant is
+  // checked once, at the end: a fault freezes the estimate at the last finite one checked.
+  std::size_t advance(const Sample* samples, std::size_t count, double until_t_s);
   // The state went non-finite: the estimate is frozen with an infinite sigma (Estimate::fault).
   bool fault() const { return fault_; }
   const Estimate& last() const;

@@ -18,6 +18,11 @@ class MemorySource final : public SampleSource {
     next_ += n;
     return n;
   }
+  std::span<const Sample> next(std::span<Sample> scratch) override {
+    const std::span<const Sample> view = samples_.subspan(next_, std::min(scratch.size(), samples_.size() - next_));
+    next_ += view.size();
+    return view;
+  }
   void close() override { next_ = samples_.size(); }
   std::string describe() const override { return std::to_string(samples_.size()) + " samples in memory"; }
   SourceHealth health() const override {

@@ -11,11 +11,7 @@ void BlockMeans::reset() {
   m2_.setZero();
 }
 
-void BlockMeans::add(const Vec3& rate_dps, double dt_s) {
-  sum_ += rate_dps;
-  ++samples_;
-  filled_s_ += dt_s;
-  if (filled_s_ + 1e-9 < block_s_) return;
+void BlockMeans::close_block() {
   const Vec3 block_mean = sum_ / samples_;
   ++blocks_;
   const Vec3 delta = block_mean - mean_;

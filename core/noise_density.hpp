@@ -13,13 +13,20 @@ class BlockMeans {
   explicit BlockMeans(double block_s) : block_s_(block_s) {}
 
   void reset();
-  void add(const Vec3& rate_dps, double dt_s);
+  void add(const Vec3& rate_dps, double dt_s) {  // inline: it runs on every sample
+    sum_ += rate_dps;
+    ++samples_;
+    filled_s_ += dt_s;
+    if (filled_s_ + 1e-9 >= block_s_) close_block();
+  }
   std::uint32_t blocks() const { return blocks_; }
   // Sum of squared deviations of the block means from their mean, per axis.
   const Vec3& squares() const { return m2_; }
   double block_s() const { return block_s_; }
 
  private:
+  void close_block();
+
   double block_s_;
   Vec3 sum_ = Vec3::Zero();
   double filled_s_ = 0.0;

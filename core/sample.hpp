@@ -24,8 +24,10 @@ inline constexpr double kMinPlausibleTempC = -60.0;
 inline constexpr double kMaxPlausibleTempC = 150.0;
 
 inline bool plausible(const Sample& s) {
-  return std::isfinite(s.t_s) && s.rate_dps.cwiseAbs().maxCoeff() <= kMaxPlausibleRateDps &&
-         (std::isnan(s.temp_c) || (s.temp_c >= kMinPlausibleTempC && s.temp_c <= kMaxPlausibleTempC));
+  // Each comparison is false for a NaN: a NaN rate or time fails, a NaN temperature passes.
+  return std::abs(s.t_s) <= std::numeric_limits<double>::max() && std::abs(s.rate_dps.x()) <= kMaxPlausibleRateDps &&
+         std::abs(s.rate_dps.y()) <= kMaxPlausibleRateDps && std::abs(s.rate_dps.z()) <= kMaxPlausibleRateDps &&
+         !(s.temp_c < kMinPlausibleTempC) && !(s.temp_c > kMaxPlausibleTempC);
 }
 
 // Empty when plausible; otherwise what is wrong, with the value.

@@ -25,6 +25,10 @@ class SampleSource {
   // source has ended. Throws InputError on bad input, after returning every good sample
   // that came before it; any other exception means the source is gone for good (a dead sensor).
   virtual std::size_t read(std::span<core::Sample> out) = 0;
+  // The same as read(), without a copy where the source holds the samples already (in memory,
+  // a read-ahead block): a view of at most `scratch.size()` samples, valid until the next call
+  // to read() or next(); others fill `scratch` and view that.
+  virtual std::span<const core::Sample> next(std::span<core::Sample> scratch) { return scratch.first(read(scratch)); }
   // Releases the underlying file or device; reading after close returns zero.
   virtual void close() = 0;
   // One line for logs and summaries: what this source is reading.

@@ -54,7 +54,7 @@ class SensorModels {
   void track_vibration(const Vec3& rate_dps, double dt_s) {
     const double diff = rate_dps.z() - previous_rate_z_dps_;
     previous_rate_z_dps_ = rate_dps.z();
-    const double weight = std::min(1.0, dt_s / settings_.vibration_tau_s);
+    const double weight = std::min(1.0, dt_s * per_vibration_tau_);
     diff_var_z_ += weight * (diff * diff - diff_var_z_);
   }
   // The white rate noise N^2 (dps^2 s) on `axis` for propagating one sample; on z, the
@@ -83,7 +83,8 @@ class SensorModels {
   NoiseDensity pooled_noise_;
   Vec3 sigma_still_dps_ = Vec3::Zero();
   Vec3 white_dps2_s_ = Vec3::Zero();
-  double diff_var_z_ = 0.0;  // running mean of squared z sample differences, dps^2
+  double per_vibration_tau_ = 1.0 / settings_.vibration_tau_s;  // a product per sample, not a quotient
+  double diff_var_z_ = 0.0;                                     // running mean of squared z sample differences, dps^2
   double previous_rate_z_dps_ = 0.0;
 };
 

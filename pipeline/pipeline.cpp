@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <exception>
 #include <limits>
+#include <span>
 
 #include "io/csv_out.hpp"
 #include "io/input_error.hpp"
@@ -49,18 +50,17 @@ void Pipeline::apply_commands() {
   commands_.clear();
 }
 
-std::size_t Pipeline::unwatched(const std::vector<core::Sample>& batch, std::size_t from, std::size_t count) const {
+double Pipeline::next_estimate_due_s() const {
   double due = std::numeric_limits<double>::infinity();
   for (const Sink* sink : sample_sinks_) due = std::min(due, sink->next_estimate_due_s());
-  std::size_t end = from;
-  while (end < count && batch[end].t_s < due && core::plausible(batch[end])) ++end;
-  return end - from;
+  return due;
 }
 
 Outcome Pipeline::run() {
   Outcome outcome;
-  std::vector<core::Sample> batch(options_.batch);
-  bool started = false;  // outcome.first_t_s is set
+  std::vector<core::Sample> scratch(options_.batch);
+  std::span<const core::Sample> batch;  // the samples read, in scratch or in the source's own memory
+  bool started = false;                 // outcome.first_t_s is set
   const bool bulk = !options_.pacer && inbox_ == nullptr;
   std::size_t done = 0;  // samples of the current batch through the estimator and the sinks
   try {
@@ -72,7 +72,8 @@ Outcome Pipeline::run() {
       std::size_t count = 0;
       done = 0;
       try {
-        count = source_.read(batch);
+        batch = source_.next(scratch);
+        count = batch.size();
       } catch (const drivers::InputError& error) {
         outcome.ending = Ending::BadInput;
         outcome.error = error.what();
@@ -95,15 +96,14 @@ Outcome Pipeline::run() {
       // The hot loop: nothing here that a batch can do once. A stop is seen per batch, or by
       // the pacer per sample (a recording in real time may sit in one batch for seconds).
       bool implausible = false;
+      double due_s = bulk ? next_estimate_due_s() : 0.0;
       for (; done < count; ++done) {
         // A replay (no pacer, no commands): runs of samples no sink looks at go through the
         // estimator's fast path; it stops before a sample that closes a segment.
         if (bulk) {
-          if (const std::size_t run = unwatched(batch, done, count); run > 0) {
-            if (const std::size_t taken = estimator_->advance(&batch[done], run); taken > 0) {
-              done += taken - 1;  // the loop's increment takes the last one
-              continue;
-            }
+          if (const std::size_t taken = estimator_->advance(batch.data() + done, count - done, due_s); taken > 0) {
+            done += taken - 1;  // the loop's increment takes the last one
+            continue;
           }
         }
         const core::Sample& sample = batch[done];
@@ -120,6 +120,7 @@ Outcome Pipeline::run() {
         if (inbox_ != nullptr) apply_commands();
         const core::Estimate& estimate = estimator_->update(sample);
         for (Sink* sink : sample_sinks_) sink->add(sample, estimate, *estimator_);
+        if (bulk) due_s = next_estimate_due_s();
       }
       outcome.samples += done;
       if (done > 0) outcome.last_t_s = batch[done - 1].t_s;

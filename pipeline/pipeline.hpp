@@ -76,9 +76,9 @@ class Pipeline {
  private:
   bool stop_requested() const { return options_.stop != nullptr && options_.stop->load(); }
   void apply_commands();
-  // How many samples from `from` on no sink needs an estimate of (all plausible): a replay
-  // takes them through Estimator::advance.
-  std::size_t unwatched(const std::vector<core::Sample>& batch, std::size_t from, std::size_t count) const;
+  // The earliest sample time any sink needs the estimate of: a replay takes the samples
+  // before it through Estimator::advance.
+  double next_estimate_due_s() const;
   void finish(Outcome& outcome);
 
   core::SampleSource& source_;

@@ -56,6 +56,15 @@ bool ReadAheadSource::take_next_block() {
   return true;
 }
 
+std::span<const core::Sample> ReadAheadSource::next(std::span<core::Sample> scratch) {
+  if (scratch.empty() || closed_) return {};
+  if ((current_ == nullptr || offset_ == current_->count) && !take_next_block()) return {};
+  const std::size_t count = std::min(scratch.size(), current_->count - offset_);
+  const std::span<const core::Sample> view(current_->samples.data() + offset_, count);
+  offset_ += count;
+  return view;
+}
+
 std::size_t ReadAheadSource::read(std::span<core::Sample> out) {
   if (out.empty() || closed_) return 0;
   if ((current_ == nullptr || offset_ == current_->count) && !take_next_block()) return 0;

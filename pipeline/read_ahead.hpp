@@ -32,6 +32,9 @@ class ReadAheadSource final : public core::SampleSource {
   ReadAheadSource& operator=(const ReadAheadSource&) = delete;
 
   std::size_t read(std::span<core::Sample> out) override;
+  // A view into the block being handed out: the estimator reads the samples where the reader
+  // thread put them.
+  std::span<const core::Sample> next(std::span<core::Sample> scratch) override;
   void close() override;
   std::string describe() const override { return inner_.describe(); }  // fixed at open
   // As of the block being handed out (the reader runs ahead of it).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <tuple>
 #include <vector>
@@ -375,7 +376,8 @@ TEST(AutoEstimator, TheFastPathMovesTheStateExactlyAsUpdateDoes) {
     std::uniform_int_distribution<std::size_t> run_length(1, 3000);
     std::size_t i = 0, advanced = 0, checked = 0;
     while (i < samples.size()) {
-      const std::size_t taken = fast.advance(&samples[i], std::min(run_length(rng), samples.size() - i));
+      const std::size_t taken = fast.advance(&samples[i], std::min(run_length(rng), samples.size() - i),
+                                             std::numeric_limits<double>::infinity());
       const Estimate& got = taken > 0 ? fast.last() : fast.update(samples[i]);
       advanced += taken;
       i += std::max<std::size_t>(taken, 1);

@@ -34,13 +34,18 @@ struct Read {
   std::string error;  // empty when the source ended cleanly
 };
 
-// Reads in batches of `batch`, as the pipeline does, until the end or an InputError.
+// Reads in batches of `batch` until the end or an InputError, by read() and next() (a view,
+// as the pipeline reads) in turn.
 Read read_all(headingd::core::SampleSource& source, std::size_t batch) {
   Read out;
   std::vector<Sample> buffer(batch);
   try {
-    while (const std::size_t n = source.read(buffer))
-      out.samples.insert(out.samples.end(), buffer.begin(), buffer.begin() + static_cast<long>(n));
+    for (bool by_view = false;; by_view = !by_view) {
+      const std::span<const Sample> got =
+          by_view ? source.next(buffer) : std::span<const Sample>(buffer).first(source.read(buffer));
+      if (got.empty()) break;
+      out.samples.insert(out.samples.end(), got.begin(), got.end());
+    }
   } catch (const InputError& error) {
     out.error = error.what();
   }
