@@ -536,10 +536,12 @@ void AutoEstimator::propagate(const Sample& sample, double dt_s) {
 
 HEADINGD_HOT void AutoEstimator::propagate_filters(const Sample& sample, double dt_s) {
   models_.track_vibration(sample.rate_dps, dt_s);
-  for (int axis = 0; axis < 3; ++axis) {
-    filters_[static_cast<std::size_t>(axis)].propagate(rate_for_angle(sample.rate_dps, axis), dt_s,
-                                                       models_.process_white_dps2_s(axis, dt_s), walk_dps2_per_s_);
-  }
+  // x and y: only the bias half. Their angles and the angles' covariances are never read (the
+  // attitude carries roll and pitch), and the bias half does not depend on them.
+  filters_[0].let_bias_drift(dt_s, walk_dps2_per_s_);
+  filters_[1].let_bias_drift(dt_s, walk_dps2_per_s_);
+  filters_[2].propagate(rate_for_angle(sample.rate_dps, 2), dt_s, models_.process_white_dps2_s(2, dt_s),
+                        walk_dps2_per_s_);
 }
 
 HEADINGD_HOT AttitudeIntegrator::Turn AutoEstimator::turn_of(const Sample& sample, double dt_s) const {
@@ -583,18 +585,22 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
 std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, double until_t_s) {
   if (!started_ || in_startup_) return 0;
   estimate_.closed = SegmentVerdict{};
-  // The attitude takes each chunk's turns after the rest has seen them (the bias they are
-  // corrected by is the one in force at each sample, as in update()): its chain of products
-  // then runs without the rest of the work in between.
+  // In chunks, each in three passes that together do what update() does sample by sample:
+  // the tests and the segment's statistics; the three axis filters, their values held in
+  // registers; the attitude. The filters and the attitude take the bias in force at each
+  // sample, which only a temperature step moves: a chunk starts with such a step or has none.
   constexpr std::size_t kChunk = 128;
+  std::array<double, kChunk> dts;
   std::array<AttitudeIntegrator::Turn, kChunk> turns;
   const Vec3 gate_dps = settings_.k_range * models_.sigma_still_dps();  // the segment under way has samples
+  const double gain = scale_.gain();
   std::size_t taken = 0;
   bool special = false;
   while (taken < count && !special) {
+    const Sample* chunk = samples + taken;
     std::size_t n = 0;
-    for (; n < kChunk && taken < count; ++n, ++taken) {
-      const Sample& sample = samples[taken];
+    for (; n < kChunk && taken + n < count; ++n) {
+      const Sample& sample = chunk[n];
       // What update() would close on is left for it (neither test depends on the temperature
       // step, which update() applies first), and so are a sample someone wants the estimate of
       // and one the pipeline's door must refuse.
@@ -603,15 +609,35 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
         special = true;
         break;
       }
+      if (n > 0 && models_.follows_temperature(sample.temp_c, previous_temp_c_)) break;  // the next chunk's first
       const double dt_s = sample.t_s - previous_t_s_;
       previous_t_s_ = sample.t_s;
       follow_temperature(sample.temp_c);
       previous_temp_c_ = sample.temp_c;
       add_to_segment(sample, dt_s);
-      propagate_filters(sample, dt_s);
+      dts[n] = dt_s;
       turns[n] = turn_of(sample, dt_s);
     }
+    // propagate_filters(), on plain values
+    AxisFilter::Plain z = filters_[2].plain();
+    double x_var = filters_[0].bias_variance(), y_var = filters_[1].bias_variance();
+    SensorModels::Vibration vibration = models_.vibration();
+    for (std::size_t k = 0; k < n; ++k) {
+      const double rate = chunk[k].rate_dps.z();
+      const double dt_s = dts[k];
+      SensorModels::step(vibration, rate, dt_s);
+      x_var += walk_dps2_per_s_ * dt_s;
+      y_var += walk_dps2_per_s_ * dt_s;
+      // rate_for_angle(), with the bias that stays in force over the chunk
+      const double rate_z = gain == 1.0 ? rate : z.bias_dps + (rate - z.bias_dps) * gain;
+      AxisFilter::propagate(z, rate_z, dt_s, models_.white_z_dps2_s(vibration, dt_s), walk_dps2_per_s_);
+    }
+    models_.set_vibration(vibration);
+    filters_[0].set_bias_variance(x_var);
+    filters_[1].set_bias_variance(y_var);
+    filters_[2].set_plain(z);
     attitude_.add_all(turns.data(), n);
+    taken += n;
   }
   if (taken > 0) fill_estimate(samples[taken - 1]);
   return taken;

@@ -8,10 +8,6 @@ void AxisFilter::reset(double bias_dps, double bias_variance_dps2) {
   state_.covariance(1, 1) = bias_variance_dps2;
 }
 
-void AxisFilter::let_bias_drift(double dt_s, double walk_dps2_per_s) {
-  state_.covariance(1, 1) += walk_dps2_per_s * dt_s;
-}
-
 void AxisFilter::shift_bias(double delta_dps, double variance_dps2) {
   state_.bias_dps += delta_dps;
   state_.covariance(1, 1) += variance_dps2;

@@ -20,21 +20,37 @@ class AxisFilter {
   };
 
   void reset(double bias_dps, double bias_variance_dps2);
+  // The filter's values as plain numbers, for a loop that keeps all three axes' in registers
+  // while it propagates a run of samples (AutoEstimator::advance).
+  struct Plain {
+    double angle_deg, bias_dps, p00, p01, p11;
+  };
+  Plain plain() const {
+    const Eigen::Matrix2d& p = state_.covariance;
+    return {state_.angle_deg, state_.bias_dps, p(0, 0), p(0, 1), p(1, 1)};
+  }
+  void set_plain(const Plain& v) {
+    state_.angle_deg = v.angle_deg;
+    state_.bias_dps = v.bias_dps;
+    state_.covariance << v.p00, v.p01, v.p01, v.p11;
+  }
   // Integrates one sample: white_dps2_s = N^2 (N in dps/sqrt(Hz)), walk_dps2_per_s = q.
   // (Inline: it runs three times on every sample.)
-  void propagate(double rate_dps, double dt_s, double white_dps2_s, double walk_dps2_per_s) {
-    state_.angle_deg += (rate_dps - state_.bias_dps) * dt_s;
-    Eigen::Matrix2d& p = state_.covariance;
+  static void propagate(Plain& v, double rate_dps, double dt_s, double white_dps2_s, double walk_dps2_per_s) {
+    v.angle_deg += (rate_dps - v.bias_dps) * dt_s;
     // P <- F P F' + Q with F = [1, -dt; 0, 1].
-    const double p00 = (p(0, 0) - 2.0 * dt_s * p(0, 1)) + (dt_s * dt_s * p(1, 1) + white_dps2_s * dt_s);
-    const double p01 = p(0, 1) - dt_s * p(1, 1);
-    p(0, 0) = p00;
-    p(0, 1) = p(1, 0) = p01;
-    p(1, 1) += walk_dps2_per_s * dt_s;
+    v.p00 = (v.p00 - 2.0 * dt_s * v.p01) + (dt_s * dt_s * v.p11 + white_dps2_s * dt_s);
+    v.p01 = v.p01 - dt_s * v.p11;
+    v.p11 += walk_dps2_per_s * dt_s;
+  }
+  void propagate(double rate_dps, double dt_s, double white_dps2_s, double walk_dps2_per_s) {
+    Plain v = plain();
+    propagate(v, rate_dps, dt_s, white_dps2_s, walk_dps2_per_s);
+    set_plain(v);
   }
   // Lets time pass while the angle is known not to change (a still segment): only the bias
   // may drift.
-  void let_bias_drift(double dt_s, double walk_dps2_per_s);
+  void let_bias_drift(double dt_s, double walk_dps2_per_s) { state_.covariance(1, 1) += walk_dps2_per_s * dt_s; }
   // A known change of the bias (temperature model), with its variance.
   void shift_bias(double delta_dps, double variance_dps2);
   // The mean of a still segment measures the bias with variance r. Returns the innovation.
@@ -68,6 +84,7 @@ class AxisFilter {
   double bias_dps() const { return state_.bias_dps; }
   double angle_variance() const { return state_.covariance(0, 0); }
   double bias_variance() const { return state_.covariance(1, 1); }
+  void set_bias_variance(double variance_dps2) { state_.covariance(1, 1) = variance_dps2; }
 
  private:
   State state_;

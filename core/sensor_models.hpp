@@ -52,10 +52,28 @@ class SensorModels {
   }
   // Sample-to-sample differences of the z rate: vibration while moving.
   void track_vibration(const Vec3& rate_dps, double dt_s) {
-    const double diff = rate_dps.z() - previous_rate_z_dps_;
-    previous_rate_z_dps_ = rate_dps.z();
-    const double weight = std::min(1.0, dt_s * per_vibration_tau_);
-    diff_var_z_ += weight * (diff * diff - diff_var_z_);
+    Vibration v = vibration();
+    step(v, rate_dps.z(), dt_s);
+    set_vibration(v);
+  }
+  // The same on plain values, for a loop that keeps them in registers (AutoEstimator::advance).
+  struct Vibration {
+    double previous_rate_z_dps, diff_var_z, per_tau;
+  };
+  Vibration vibration() const { return {previous_rate_z_dps_, diff_var_z_, per_vibration_tau_}; }
+  void set_vibration(const Vibration& v) {
+    previous_rate_z_dps_ = v.previous_rate_z_dps;
+    diff_var_z_ = v.diff_var_z;
+  }
+  static void step(Vibration& v, double rate_z_dps, double dt_s) {
+    const double diff = rate_z_dps - v.previous_rate_z_dps;
+    v.previous_rate_z_dps = rate_z_dps;
+    const double weight = std::min(1.0, dt_s * v.per_tau);
+    v.diff_var_z += weight * (diff * diff - v.diff_var_z);
+  }
+  // The z process noise at a vibration level (process_white_dps2_s on plain values).
+  double white_z_dps2_s(const Vibration& v, double dt_s) const {
+    return std::max(white_dps2_s_[2], 0.5 * v.diff_var_z * dt_s);
   }
   // The white rate noise N^2 (dps^2 s) on `axis` for propagating one sample; on z, the
   // vibration when it exceeds the chip's own noise. Vibration is white at the sample rate:
