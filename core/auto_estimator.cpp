@@ -599,24 +599,37 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
   while (taken < count && !special) {
     const Sample* chunk = samples + taken;
     std::size_t n = 0;
+    Vec3 low = segment_.stats.min_dps(), high = segment_.stats.max_dps();  // range_exceeds(), in registers
+    double previous_t_s = previous_t_s_;
     for (; n < kChunk && taken + n < count; ++n) {
       const Sample& sample = chunk[n];
+      const Vec3 low_with = low.cwiseMin(sample.rate_dps), high_with = high.cwiseMax(sample.rate_dps);
       // What update() would close on is left for it (neither test depends on the temperature
       // step, which update() applies first), and so are a sample someone wants the estimate of
       // and one the pipeline's door must refuse.
       if (!(sample.t_s < until_t_s) || !plausible(sample) || segment_full(sample.t_s) ||
-          range_exceeds(sample.rate_dps, gate_dps)) {
+          ((high_with - low_with).array() > gate_dps.array()).any()) {
         special = true;
         break;
       }
       if (n > 0 && models_.follows_temperature(sample.temp_c, previous_temp_c_)) break;  // the next chunk's first
-      const double dt_s = sample.t_s - previous_t_s_;
-      previous_t_s_ = sample.t_s;
-      follow_temperature(sample.temp_c);
+      if (n == 0) follow_temperature(sample.temp_c);
       previous_temp_c_ = sample.temp_c;
-      add_to_segment(sample, dt_s);
-      dts[n] = dt_s;
-      turns[n] = turn_of(sample, dt_s);
+      low = low_with, high = high_with;
+      dts[n] = sample.t_s - previous_t_s;
+      previous_t_s = sample.t_s;
+      turns[n] = turn_of(sample, dts[n]);
+    }
+    previous_t_s_ = previous_t_s;
+    // add_to_segment(), a run at a time
+    segment_.stats.add_run(chunk, n);
+    segment_.blocks.add_run(chunk, dts.data(), n);
+    for (std::size_t k = 0; k < n; ++k) {
+      segment_.duration_s += dts[k];
+      if (std::isfinite(chunk[k].temp_c)) {
+        segment_.temp_sum_c += chunk[k].temp_c;
+        ++segment_.temp_count;
+      }
     }
     // propagate_filters(), on plain values
     AxisFilter::Plain z = filters_[2].plain();

@@ -19,6 +19,23 @@ class BlockMeans {
     filled_s_ += dt_s;
     if (filled_s_ + 1e-9 >= block_s_) close_block();
   }
+  // add() on each of `count` samples with their intervals, the sums held in registers.
+  void add_run(const Sample* samples, const double* dts, std::size_t count) {
+    Vec3 sum = sum_;
+    double filled_s = filled_s_;
+    std::uint32_t in_block = samples_;
+    for (std::size_t i = 0; i < count; ++i) {
+      sum += samples[i].rate_dps;
+      ++in_block;
+      filled_s += dts[i];
+      if (filled_s + 1e-9 >= block_s_) [[unlikely]] {
+        sum_ = sum, samples_ = in_block, filled_s_ = filled_s;
+        close_block();
+        sum = sum_, in_block = samples_, filled_s = filled_s_;
+      }
+    }
+    sum_ = sum, samples_ = in_block, filled_s_ = filled_s;
+  }
   std::uint32_t blocks() const { return blocks_; }
   // Sum of squared deviations of the block means from their mean, per axis.
   const Vec3& squares() const { return m2_; }
