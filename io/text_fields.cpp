@@ -1,5 +1,6 @@
 #include "io/text_fields.hpp"
 
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -48,6 +49,31 @@ bool extended_quotient(std::uint64_t mantissa, int decimals, double& value) {
   }
 }
 
+// Whether the eight characters at p are all digits, and if so their value (most significant
+// first), worked out on the eight bytes at once: in a little-endian word the first character
+// is the low byte. A byte is a digit when its high nibble is 3 and adding 6 leaves it 3 (a
+// carry out of a byte happens only from 0xFA up, which fails the first test anyway). Then the
+// digits are paired (10 a + b, no carry: at most 99), the pairs at bytes 0 and 4 weighted by
+// 10^6 and 10^2 and those at 2 and 6 by 10^4 and 1 in one multiply each, the sum in the
+// upper half of the word.
+bool eight_digits(const char* p, std::uint64_t& value) {
+  if constexpr (std::endian::native != std::endian::little) {
+    return false;
+  } else {
+    constexpr std::uint64_t kHighNibbles = 0xF0F0F0F0F0F0F0F0;
+    constexpr std::uint64_t kZeros = 0x3030303030303030;
+    std::uint64_t word = 0;
+    std::memcpy(&word, p, sizeof word);
+    if ((word & kHighNibbles) != kZeros || ((word + 0x0606060606060606) & kHighNibbles) != kZeros) return false;
+    word -= kZeros;
+    word = word * 10 + (word >> 8);
+    constexpr std::uint64_t kPairs = 0x000000FF000000FF;
+    value =
+        (((word & kPairs) * (100 + (1'000'000ULL << 32))) + (((word >> 16) & kPairs) * (1 + (10'000ULL << 32)))) >> 32;
+    return true;
+  }
+}
+
 // Plain decimals ("-0.46375", "22.00"), the whole of a recording, without from_chars' general
 // machinery: the digits as an integer m and the count of decimals d. When m < 2^53 and d <= 22
 // both m and 10^d are exact doubles and one division is correctly rounded (Clinger's fast
@@ -69,6 +95,9 @@ const char* parse_plain_decimal(const char* p, const char* end, double& value) {
   if (p == start) return nullptr;
   if (p < end && *p == '.') {
     const char* fraction = ++p;
+    // A recording's fractions run to 17 digits: eight at a time while they last.
+    for (std::uint64_t eight = 0; end - p >= 8 && digits <= 19 - 8 && eight_digits(p, eight); p += 8, digits += 8)
+      mantissa = mantissa * 100'000'000 + eight;
     for (; p < end && *p >= '0' && *p <= '9' && digits < 19; ++p, ++digits)
       mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
     decimals = static_cast<int>(p - fraction);
