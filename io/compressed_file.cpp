@@ -275,7 +275,7 @@ bool wants_zstd(const std::string& path) { return path.size() > 4 && path.compar
 
 namespace {
 
-std::FILE* decompressing(std::FILE* file, bool threaded) {
+std::FILE* decompressing(std::FILE* file, bool threaded, bool* compressed = nullptr) {
   last_error.clear();
   unsigned char head[4] = {};
   const std::size_t got = std::fread(head, 1, sizeof head, file);
@@ -283,12 +283,15 @@ std::FILE* decompressing(std::FILE* file, bool threaded) {
     std::memcpy(in.bytes.data(), head, got);
     in.end = got;
   };
-  if (got == 4 && std::memcmp(head, kZstdMagic, 4) == 0) {
+  const bool zstd = got == 4 && std::memcmp(head, kZstdMagic, 4) == 0;
+  const bool gzip = !zstd && got >= 2 && std::memcmp(head, kGzipMagic, 2) == 0;
+  if (compressed != nullptr) *compressed = zstd || gzip;
+  if (zstd) {
     auto* reader = new ZstdReader{Input{file}};
     take_head(reader->in);
     return wrap(reader, &zstd_read, threaded);
   }
-  if (got >= 2 && std::memcmp(head, kGzipMagic, 2) == 0) {
+  if (gzip) {
     auto* reader = new GzipReader{Input{file}};
     take_head(reader->in);
     if (inflateInit2(&reader->stream, 15 + 16) != Z_OK) {  // 15: the largest window; +16: gzip headers
@@ -298,24 +301,26 @@ std::FILE* decompressing(std::FILE* file, bool threaded) {
     }
     return wrap(reader, &gzip_read, threaded);
   }
-  if (std::fseek(file, 0, SEEK_SET) == 0) return file;  // plain and seekable: as it is
+  // Plain: a regular file is read on a thread of its own too (the copies out of the page
+  // cache then leave the parsing thread); other seekable ones as they are.
+  if (!threaded && std::fseek(file, 0, SEEK_SET) == 0) return file;
   auto* reader = new PlainReader{Input{file}};
   take_head(reader->in);
-  return wrap(reader, &plain_read, false);
+  return wrap(reader, &plain_read, threaded);
 }
 
 }  // namespace
 
 std::FILE* decompressing(std::FILE* file) { return decompressing(file, false); }
 
-std::FILE* open_for_reading(const std::string& path) {
+std::FILE* open_for_reading(const std::string& path, bool* compressed) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) return nullptr;
   // A regular file decompresses on a thread of its own; a pipe is read where a stop can end a
   // read that waits.
   struct stat info {};
   const bool regular = ::fstat(::fileno(file), &info) == 0 && S_ISREG(info.st_mode);
-  return decompressing(file, regular);
+  return decompressing(file, regular, compressed);
 }
 
 std::FILE* zstd_writer(std::FILE* file, int level) {

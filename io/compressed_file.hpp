@@ -9,10 +9,10 @@
 
 namespace headingd::drivers {
 
-// Opens `path` for reading, decompressing when its magic number says so (a regular file on a
-// thread of its own, a few megabytes ahead). nullptr with errno set when it cannot be opened. A
-// plain seekable file is returned as fopen gives it (no copy).
-std::FILE* open_for_reading(const std::string& path);
+// Opens `path` for reading, decompressing when its magic number says so; a regular file,
+// plain or not, is read on a thread of its own, a few megabytes ahead. nullptr with errno set
+// when it cannot be opened. `compressed`, if given, says whether it decompresses.
+std::FILE* open_for_reading(const std::string& path, bool* compressed = nullptr);
 // As open_for_reading, for a stream already open (pipes, tests).
 std::FILE* decompressing(std::FILE* file);
 

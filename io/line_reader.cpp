@@ -25,12 +25,14 @@ void refuse_directory(std::FILE* file, const std::string& path) {
 }  // namespace
 
 LineReader::LineReader(std::string path) : path_(std::move(path)), buffer_(kMaxLineBytes) {
-  file_ = open_for_reading(path_);  // zstd and gzip decompressed, by magic number
+  bool compressed = false;
+  file_ = open_for_reading(path_, &compressed);  // zstd and gzip decompressed, by magic number
   if (file_ == nullptr) throw OpenError("cannot open " + path_ + ": " + std::strerror(errno));
-  refuse_directory(file_, path_);
+  refuse_directory(file_, path_);  // (a directory is not wrapped: its descriptor is there to see)
+  // For the progress bar: a plain file's size (by name: a wrapped stream has no descriptor).
   struct stat info {};
-  if (::fileno(file_) >= 0 && ::fstat(::fileno(file_), &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0)
-    size_bytes_ = static_cast<std::int64_t>(info.st_size);  // a plain file (a decompressing stream has no fd)
+  if (!compressed && ::stat(path_.c_str(), &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0)
+    size_bytes_ = static_cast<std::int64_t>(info.st_size);
 }
 
 LineReader::LineReader(std::FILE* file, std::string name)
@@ -52,9 +54,7 @@ void LineReader::close() {
 
 std::optional<double> LineReader::fraction_read() const {
   if (size_bytes_ <= 0 || file_ == nullptr) return std::nullopt;
-  const long position = std::ftell(file_);
-  if (position < 0) return std::nullopt;
-  const auto taken = static_cast<double>(position) - static_cast<double>(end_ - begin_);
+  const auto taken = static_cast<double>(bytes_in_) - static_cast<double>(end_ - begin_);
   return std::clamp(taken / static_cast<double>(size_bytes_), 0.0, 1.0);
 }
 
@@ -96,6 +96,7 @@ bool LineReader::next(std::string_view& line) {
     end_ = partial;
     const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_);
     end_ += got;
+    bytes_in_ += got;
     if (got == 0) {
       if (std::ferror(file_) != 0) {
         const std::string why = decompression_error();

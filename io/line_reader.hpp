@@ -51,6 +51,7 @@ class LineReader {
   bool eof_ = false;
   std::uint64_t line_number_ = 0;
   std::int64_t size_bytes_ = -1;  // a plain regular file's size, else -1
+  std::uint64_t bytes_in_ = 0;    // read from the file (after decompression) so far
   std::uint64_t skipped_run_ = 0;
 };
 
