@@ -117,17 +117,11 @@ HEADINGD_HOT void AutoEstimator::add_to_segment(const Sample& sample, double dt_
   }
 }
 
-HEADINGD_HOT bool AutoEstimator::range_exceeds(const Vec3& rate_dps, const Vec3& gate_dps) const {
-  const Vec3& low = segment_.stats.min_dps();
-  const Vec3& high = segment_.stats.max_dps();
-  const auto beyond = [&](Eigen::Index a) {
-    return std::max(high[a], rate_dps[a]) - std::min(low[a], rate_dps[a]) > gate_dps[a];
-  };
-  return beyond(0) || beyond(1) || beyond(2);
-}
-
 HEADINGD_HOT bool AutoEstimator::range_gate_trips(const Vec3& rate_dps) const {
-  return segment_.stats.count() > 0 && range_exceeds(rate_dps, settings_.k_range * models_.sigma_still_dps());
+  if (segment_.stats.count() == 0) return false;
+  const Vec3 low = segment_.stats.min_dps().cwiseMin(rate_dps);
+  const Vec3 high = segment_.stats.max_dps().cwiseMax(rate_dps);
+  return ((high - low).array() > settings_.k_range * models_.sigma_still_dps().array()).any();
 }
 
 SegmentVerdict AutoEstimator::close_startup() {
@@ -552,9 +546,8 @@ HEADINGD_HOT AttitudeIntegrator::Turn AutoEstimator::turn_of(const Sample& sampl
 HEADINGD_HOT double AutoEstimator::rate_for_angle(const Vec3& rate_dps, int axis) const {
   // The filter integrates (rate - bias): the z turn is corrected by the scale learned from
   // heading fixes, the bias (measured where the rate is zero) is not.
-  if (axis != 2 || scale_.gain() == 1.0) return rate_dps[axis];
-  const double bias = filters_[2].bias_dps();
-  return bias + (rate_dps.z() - bias) * scale_.gain();
+  if (axis != 2) return rate_dps[axis];
+  return scaled_z(rate_dps.z(), filters_[2].bias_dps(), scale_.gain());
 }
 
 Vec3 AutoEstimator::bias_dps() const {
@@ -599,10 +592,11 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
   while (taken < count && !special) {
     const Sample* chunk = samples + taken;
     std::size_t n = 0;
-    Vec3 low = segment_.stats.min_dps(), high = segment_.stats.max_dps();  // range_exceeds(), in registers
+    Vec3 low = segment_.stats.min_dps(), high = segment_.stats.max_dps();
     double previous_t_s = previous_t_s_;
     for (; n < kChunk && taken + n < count; ++n) {
       const Sample& sample = chunk[n];
+      // range_gate_trips(), on the running range and the gate worked out once
       const Vec3 low_with = low.cwiseMin(sample.rate_dps), high_with = high.cwiseMax(sample.rate_dps);
       // What update() would close on is left for it (neither test depends on the temperature
       // step, which update() applies first), and so are a sample someone wants the estimate of
@@ -641,9 +635,8 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
       SensorModels::step(vibration, rate, dt_s);
       x_var += walk_dps2_per_s_ * dt_s;
       y_var += walk_dps2_per_s_ * dt_s;
-      // rate_for_angle(), with the bias that stays in force over the chunk
-      const double rate_z = gain == 1.0 ? rate : z.bias_dps + (rate - z.bias_dps) * gain;
-      AxisFilter::propagate(z, rate_z, dt_s, models_.white_z_dps2_s(vibration, dt_s), walk_dps2_per_s_);
+      AxisFilter::propagate(z, scaled_z(rate, z.bias_dps, gain), dt_s, models_.white_z_dps2_s(vibration, dt_s),
+                            walk_dps2_per_s_);
     }
     models_.set_vibration(vibration);
     filters_[0].set_bias_variance(x_var);

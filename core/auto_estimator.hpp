@@ -109,8 +109,6 @@ class AutoEstimator {
   void begin_segment(double t_s);
   void add_to_segment(const Sample& sample, double dt_s);
   bool range_gate_trips(const Vec3& rate_dps) const;
-  // Whether the segment's range with this sample exceeds the gate (given per axis).
-  bool range_exceeds(const Vec3& rate_dps, const Vec3& gate_dps) const;
   SegmentVerdict close_startup();
   // Judges a closed segment (segment_judge) and applies the verdict.
   SegmentVerdict close_segment();
@@ -198,6 +196,10 @@ class AutoEstimator {
     return scale_.heading_variance_deg2(filters_[2].angle_deg() - turned_from_deg_);
   }
   double rate_for_angle(const Vec3& rate_dps, int axis) const;
+  // The z rate the filter integrates: its turn (rate - bias) by the learned scale's gain.
+  static double scaled_z(double rate_dps, double bias_dps, double gain) {
+    return gain == 1.0 ? rate_dps : bias_dps + (rate_dps - bias_dps) * gain;
+  }
   SensorModels models_;
   AttitudeIntegrator attitude_;
   Segment segment_;

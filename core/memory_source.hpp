@@ -13,10 +13,9 @@ class MemorySource final : public SampleSource {
  public:
   explicit MemorySource(std::span<const Sample> samples) : samples_(samples) {}
   std::size_t read(std::span<Sample> out) override {
-    const std::size_t n = std::min(out.size(), samples_.size() - next_);
-    std::copy_n(samples_.begin() + static_cast<std::ptrdiff_t>(next_), n, out.begin());
-    next_ += n;
-    return n;
+    const std::span<const Sample> view = next(out);
+    std::copy(view.begin(), view.end(), out.begin());
+    return view.size();
   }
   std::span<const Sample> next(std::span<Sample> scratch) override {
     const std::span<const Sample> view = samples_.subspan(next_, std::min(scratch.size(), samples_.size() - next_));

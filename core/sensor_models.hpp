@@ -79,8 +79,7 @@ class SensorModels {
   // vibration when it exceeds the chip's own noise. Vibration is white at the sample rate:
   // half the variance of sample differences, times dt, is its density squared.
   double process_white_dps2_s(int axis, double dt_s) const {
-    const double white = white_dps2_s_[axis];
-    return axis == 2 ? std::max(white, 0.5 * diff_var_z_ * dt_s) : white;
+    return axis == 2 ? white_z_dps2_s(vibration(), dt_s) : white_dps2_s_[axis];
   }
 
   // After a restart: the noise figures and the temperature models saved before.

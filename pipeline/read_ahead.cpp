@@ -66,12 +66,9 @@ std::span<const core::Sample> ReadAheadSource::next(std::span<core::Sample> scra
 }
 
 std::size_t ReadAheadSource::read(std::span<core::Sample> out) {
-  if (out.empty() || closed_) return 0;
-  if ((current_ == nullptr || offset_ == current_->count) && !take_next_block()) return 0;
-  const std::size_t count = std::min(out.size(), current_->count - offset_);
-  std::copy_n(current_->samples.begin() + static_cast<std::ptrdiff_t>(offset_), count, out.begin());
-  offset_ += count;
-  return count;
+  const std::span<const core::Sample> view = next(out);
+  std::copy(view.begin(), view.end(), out.begin());
+  return view.size();
 }
 
 void ReadAheadSource::close() {
