@@ -1,7 +1,7 @@
 // Sample age at the subscriber: from the chip's sampling instant (the time the driver
 // reconstructs from the watermark edge) to the moment a subscriber in another process receives
 // the Orientation message carrying that sample, over Fast DDS on loopback, for FIFO watermarks
-// 1, 2, 4, 6 (the default), 8 and 16 at 400 Hz. The chip is the register-level simulator in
+// 1, 2, 4, 6, 8 (the default), 10 and 16 at 400 Hz. The chip is the register-level simulator in
 // real time: real FIFO timing, and every I2C transfer takes its time on the wire (bytes x 9
 // bits / 400 kHz) before the call returns. The sampling instant is taken on the simulator's
 // clock anchored to the steady clock, which both processes share, not from the published stamp
@@ -39,7 +39,7 @@ using namespace eprosima::fastdds::dds;
 
 namespace {
 
-constexpr double kSeconds = 15.0;
+double g_seconds = 10.0;  // per run; bench/sample_age.sh runs each watermark three times, interleaved
 
 double steady_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
@@ -67,14 +67,14 @@ class Arrivals : public DataReaderListener {
 class PublishedSamples final : public pipeline::Sink {
  public:
   explicit PublishedSamples(const app::DdsNode& node) : node_(node) {}
-  void add(const core::Sample& sample, const core::Estimate&, const core::Estimator&) override { note(sample.t_s); }
-  void batch_done(const core::Estimator& estimator, const core::SampleSource&) override { note(estimator.last().t_s); }
+  void add(const core::Sample&, const core::Estimate&, const core::Estimator&) override { note(); }
+  void batch_done(const core::Estimator&, const core::SampleSource&) override { note(); }
 
   std::vector<double> t_s_by_seq{0.0};  // index: sequence number (from 1)
 
  private:
-  void note(double t_s) {
-    while (t_s_by_seq.size() <= node_.orientation_sent()) t_s_by_seq.push_back(t_s);
+  void note() {
+    while (t_s_by_seq.size() <= node_.orientation_sent()) t_s_by_seq.push_back(node_.orientation_sample_t_s());
   }
   const app::DdsNode& node_;
 };
@@ -92,7 +92,7 @@ int subscriber(const app::DdsSettings& settings, int out_fd) {
   qos.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
   app::apply_transport(settings, qos);
   sub->create_datareader(topic, qos, &listener);
-  std::this_thread::sleep_for(std::chrono::duration<double>(kSeconds + 6.0));
+  std::this_thread::sleep_for(std::chrono::duration<double>(g_seconds + 6.0));
   app::delete_participant(participant);
   const auto bytes = static_cast<ssize_t>(listener.got.size() * sizeof(Arrival));
   return write(out_fd, listener.got.data(), static_cast<std::size_t>(bytes)) == bytes ? 0 : 1;
@@ -135,7 +135,7 @@ void measure(int watermark, const std::string& profiles) {
     drivers::L3gd20h driver(chip, chip, driver_settings);
     driver.start();
     pipeline::PipelineOptions options;
-    options.duration_s = kSeconds;
+    options.duration_s = g_seconds;
     pipeline::Pipeline line(driver, std::make_unique<core::Estimator>(), options);
     pipeline::DdsSink publisher(node, driver, pipeline::StampClock::FirstSample);  // as the daemon, live
     line.add_sink(publisher);
@@ -169,12 +169,13 @@ void measure(int watermark, const std::string& profiles) {
     ms.push_back((a.steady_s - (anchor_s + t_s_by_seq[seq])) * 1e3);
   }
   if (ms.empty()) {
-    std::printf("watermark %2d: no messages received\n", watermark);
+    std::printf("watermark=%d received=0\n", watermark);
     return;
   }
+  // One line per run, fields by name, for bench/sample_age.sh to take medians over runs.
   std::printf(
-      "watermark %2d: %zu of %zu messages (%.1f Hz), sample age p50 %.1f ms, p99 %.1f ms, max %.1f ms; publisher "
-      "%.2f %% of one core (its pipeline thread %.2f %%)\n",
+      "watermark=%d received=%zu sent=%zu rate_hz=%.1f age_p50_ms=%.2f age_p99_ms=%.2f age_max_ms=%.2f cpu_pct=%.3f "
+      "thread_cpu_pct=%.3f\n",
       watermark, ms.size(), sent, static_cast<double>(sent) / wall, percentile(ms, 0.5), percentile(ms, 0.99),
       percentile(ms, 1.0), 100.0 * cpu / wall, 100.0 * thread_cpu / wall);
   std::fflush(stdout);
@@ -188,9 +189,10 @@ int main(int argc, char** argv) {
   char* end = nullptr;
   const long watermark = argc > 1 ? std::strtol(argv[1], &end, 10) : 16;
   if (watermark < 1 || watermark > 30 || (argc > 1 && *end != '\0')) {
-    std::fprintf(stderr, "usage: sample_age WATERMARK(1..30) [PROFILES_XML]\n");
+    std::fprintf(stderr, "usage: sample_age WATERMARK(1..30) [PROFILES_XML [SECONDS]]\n");
     return 64;
   }
+  if (argc > 3) g_seconds = std::clamp(std::strtod(argv[3], nullptr), 3.0, 600.0);
   measure(static_cast<int>(watermark), argc > 2 ? argv[2] : "");
   return 0;
 }

@@ -1,9 +1,11 @@
 #include "dds/dds_node.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -181,11 +183,24 @@ struct MotionListener : public DataReaderListener {
   }
 };
 
+// How many readers a writer is matched with: a volatile message that nobody reads is not built
+// at all (Fast DDS would serialize it, file it in the writer's history and send it nowhere).
+// A reader that matches later gets the next one, as volatile durability promises.
+struct MatchedReaders : public DataWriterListener {
+  std::atomic<int> count{0};
+  void on_publication_matched(DataWriter*, const PublicationMatchedStatus& status) override {
+    count.store(status.current_count, std::memory_order_relaxed);
+  }
+  bool any() const { return count.load(std::memory_order_relaxed) > 0; }
+};
+
 struct DdsNode::Impl : public DataReaderListener {
   Discovery discovery;
   DomainParticipant* participant = nullptr;
   Publisher* publisher = nullptr;
   Subscriber* subscriber = nullptr;
+  MatchedReaders orientation_readers;
+  MatchedReaders imu_readers;
   DataWriter* orientation = nullptr;
   DataWriter* imu = nullptr;
   DataWriter* bias = nullptr;
@@ -211,11 +226,12 @@ struct DdsNode::Impl : public DataReaderListener {
     return t;
   }
 
-  DataWriter* writer(Topic* t, DataWriterQos qos, const std::string& profile) {
+  DataWriter* writer(Topic* t, DataWriterQos qos, const std::string& profile, MatchedReaders* readers = nullptr) {
     DataWriterQos from_profile;
     if (publisher->get_datawriter_qos_from_profile(profile, from_profile) == ReturnCode_t::RETCODE_OK)
       qos = from_profile;
-    auto* w = publisher->create_datawriter(t, qos);
+    auto* w = readers == nullptr ? publisher->create_datawriter(t, qos)
+                                 : publisher->create_datawriter(t, qos, readers, StatusMask::publication_matched());
     if (w == nullptr) throw std::runtime_error("cannot create a DDS writer for " + t->get_name());
     return w;
   }
@@ -271,8 +287,12 @@ DdsNode::DdsNode(const DdsSettings& settings)
     // a history of one dropped the first of each pair. A reader that falls further behind
     // loses the oldest, never the newest; reliable keeps 100 and blocks at most 100 ms.
     stream.history().depth = settings.orientation_reliable ? 100 : kOrientationBurst;
-    // A subscriber can ask to hear about it when messages stop: promise 3 periods at most.
-    stream.deadline().period = eprosima::fastrtps::Duration_t(3.0 / settings.orientation_rate_hz);
+    // Promised only when configured: Fast DDS restarts the deadline timer on every write, waking
+    // its event thread twice per period (a quarter of the publisher's CPU at 50 Hz, bench/sample_age).
+    // A reader requesting a deadline matches only a writer offering one at least as short.
+    if (settings.orientation_deadline_periods > 0.0)
+      stream.deadline().period =
+          eprosima::fastrtps::Duration_t(settings.orientation_deadline_periods / settings.orientation_rate_hz);
 
     apply_transport(settings, stream);
 
@@ -285,12 +305,12 @@ DdsNode::DdsNode(const DdsSettings& settings)
 
     d.orientation =
         d.writer(d.topic(topic_name(settings, "orientation"), TypeSupport(new headingd::msg::OrientationPubSubType())),
-                 stream, "headingd_orientation");
+                 stream, "headingd_orientation", &d.orientation_readers);
     const RosSettings& ros = settings.ros;
     if (settings.publish_imu) {
       d.imu = d.writer(
           d.topic(ros_topic(ros, settings.imu_topic), TypeSupport(new sensor_msgs::msg::dds_::Imu_PubSubType())),
-          stream, "headingd_imu");
+          stream, "headingd_imu", &d.imu_readers);
     }
     // ROS's default profile (reliable, volatile, keep last 10): what diagnostic_updater and
     // most drivers publish with, and matched by reliable and best-effort readers alike.
@@ -448,6 +468,7 @@ void DdsNode::publish(const core::Estimate& e, const core::Diagnostics& diagnost
     headingd::msg::Orientation o;
     set_stamp(o.stamp(), stamp_s);
     o.seq(++orientation_seq_);
+    orientation_sample_t_s_ = t;
     o.heading_rad(heading_rad);
     // NaN: the method gives none; infinite: the estimator faulted.
     o.heading_variance_rad2(std::isnan(sigma_rad) ? nan : sigma_rad * sigma_rad);
@@ -461,8 +482,8 @@ void DdsNode::publish(const core::Estimate& e, const core::Diagnostics& diagnost
     o.still(e.in_startup || last_verdict_still_);
     o.heading_fixes(diagnostics.heading_fixes);
     o.yaw_offset_rad(core::deg_to_rad(diagnostics.heading_fix_offset_deg));
-    d.orientation->write(&o);
-    if (d.imu != nullptr) {
+    if (d.orientation_readers.any()) d.orientation->write(&o);
+    if (d.imu != nullptr && d.imu_readers.any()) {
       const ImuFields f = imu_fields(e, diagnostics, rates_, settings_.ros);
       sensor_msgs::msg::dds_::Imu_ imu;
       set_stamp(imu.header().stamp(), stamp_s);

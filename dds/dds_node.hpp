@@ -63,6 +63,8 @@ class DdsNode {
   std::uint64_t commands_accepted() const;
   std::uint64_t commands_rejected() const;
   std::uint64_t orientation_sent() const { return orientation_seq_; }
+  // The sample time (not the stamp) that the last Orientation carried.
+  double orientation_sample_t_s() const { return orientation_sample_t_s_; }
   double orientation_period_s() const { return 1.0 / settings_.orientation_rate_hz; }
   // Other publishers of our orientation topic discovered since the last call.
   std::vector<Rival> take_rivals();
@@ -81,6 +83,7 @@ class DdsNode {
   DiagnosticsBuilder diagnostics_builder_;
   RateWindow rates_;  // bias-corrected rates since the last Imu
   std::uint64_t orientation_seq_ = 0;
+  double orientation_sample_t_s_ = 0.0;
   double next_orientation_s_ = -1e300;
   double next_status_s_ = -1e300;
   double next_bias_s_ = -1e300;

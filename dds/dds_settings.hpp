@@ -42,6 +42,7 @@ struct DdsSettings {
   std::string frame_id = "imu_link";
   double orientation_rate_hz = 50.0;        // Orientation and Imu messages per second (0, 1000]
   bool orientation_reliable = false;        // false: best-effort (latest wins); true: reliable
+  double orientation_deadline_periods = 0;  // deadline QoS offered, in periods; 0: none (no timer per write)
   std::optional<std::string> profiles_xml;  // Fast DDS XML profiles (override our QoS)
   DdsTransport transport = DdsTransport::Udp;
   // Refuse: the instance that started later exits 75 (EX_TEMPFAIL); both log the conflict.

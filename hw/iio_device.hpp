@@ -23,7 +23,8 @@ struct IioSettings {
   std::string trigger;                 // empty: keep the current one, else the device's own
   double sampling_frequency_hz = 0.0;  // 0: keep the device's; else the nearest it offers
   int buffer_length = 256;             // scans the kernel buffer holds (about 0.6 s at 400 Hz)
-  int watermark = 7;  // scans per wake-up where the kernel supports it: 18.4 ms at 380 Hz, as the L3GD20H's 6
+  int watermark = 7;  // scans per wake-up where the kernel supports it: 18.4 ms at 380 Hz, shorter than the 20 ms
+                      // publication period
   std::optional<Eigen::Matrix3d> mount;  // overrides the device's mount matrix
   double give_up_s = 30.0;               // gone this long: the sensor is taken for dead
 };

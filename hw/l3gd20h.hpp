@@ -24,7 +24,7 @@ struct L3gd20hSettings {
   int rate_hz = 400;             // nominal ODR: 100, 200, 400, 800 (real: 94.7 ... 757.6 Hz)
   int bandwidth = 2;             // CTRL1.BW 0..3; at 400 Hz: 20, 25, 50, 110 Hz LPF2 cut-off
   int full_scale_dps = 245;      // 245, 500, 2000
-  int watermark = 6;             // FIFO threshold, 1..30; the edge comes with threshold + 1 samples
+  int watermark = 8;             // FIFO threshold, 1..30; the edge comes with threshold + 1 samples
                                  // (dynamic stream): every 18.5 ms at 378.8 Hz, more often than the
                                  // 50 Hz Orientation (bench/sample_age.sh)
   bool dynamic_stream = true;    // DS: for hosts that cannot read within one ODR period

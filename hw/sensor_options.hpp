@@ -18,7 +18,7 @@ struct SensorOptions {
   int rate_hz = 400;
   int bandwidth = 2;
   int full_scale_dps = 245;
-  int watermark = 6;
+  int watermark = 8;
   std::optional<std::string> gpio_chip;  // unset: timed poll
   unsigned gpio_line = 0;
   bool int2_active_low = false;

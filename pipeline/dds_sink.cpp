@@ -103,21 +103,27 @@ void DdsSink::add(const core::Sample& sample, const core::Estimate& estimate, co
   const double stamp_s =
       clock_ == StampClock::FirstSample ? stamps_.stamp(sample.t_s) : std::max(wall_(), last_stamp_s_);
   last_stamp_s_ = stamp_s;
+  if (newest_of_wakeup_ && publication_due_ && estimate.t_s >= due_since_t_s_ + node_.orientation_period_s()) {
+    // A second publication time within one wake-up (a wake-up longer than the publication
+    // period): the pending one goes out now with the sample before this one, so the rate holds
+    // and no two messages carry the same sample; this sample starts the next.
+    publication_due_ = false;
+    node_.publish(previous_, estimator.diagnostics(), report(previous_), previous_wall_offset_s_);
+  }
   wall_offset_s_ = stamp_s - sample.t_s;
-  if (!node_.due(estimate)) return;
+  const bool due = node_.due(estimate);
   if (newest_of_wakeup_) {
+    previous_ = estimate;
+    previous_wall_offset_s_ = wall_offset_s_;
     // Due stays true until a publication: the samples after the first due one are the same
     // publication time, to go out at the end of the wake-up with the newest sample.
-    if (!publication_due_) {
+    if (due && !publication_due_) {
       publication_due_ = true;
       due_since_t_s_ = estimate.t_s;
-      return;
     }
-    if (estimate.t_s < due_since_t_s_ + node_.orientation_period_s()) return;
-    // A second publication time within one wake-up (a wake-up longer than the publication
-    // period): one goes out now, so the rate holds; the end of the wake-up sends the newest.
-    due_since_t_s_ = estimate.t_s;
+    return;
   }
+  if (!due) return;
   node_.publish(estimate, estimator.diagnostics(), report(estimate), wall_offset_s_);
 }
 

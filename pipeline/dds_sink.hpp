@@ -52,11 +52,14 @@ class DdsSink final : public Sink, public CommandInbox {
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   // A sensor's batch is one wake-up's samples (a FIFO burst): a publication that falls due
   // within it goes out at its end with the newest sample, not with the sample that crossed the
-  // publication time, which is up to a watermark older. The 50 Hz grid is kept as long as a
-  // wake-up is shorter than a publication period (the default watermark sees to that).
+  // publication time, which is up to a watermark older. A wake-up longer than a period owes
+  // two: the first goes out with the sample before the one that reaches the second time (two
+  // distinct samples, each message's Imu rate the mean of its own samples), the second at the end.
   bool newest_of_wakeup_ = false;
   bool publication_due_ = false;
   double due_since_t_s_ = 0.0;  // the sample at which the pending publication fell due
+  core::Estimate previous_;     // the sample before this one, while a publication is pending
+  double previous_wall_offset_s_ = 0.0;
 };
 
 }  // namespace headingd::pipeline

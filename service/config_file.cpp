@@ -317,6 +317,8 @@ void read_dds(const TableReader& r, DdsSettings& d) {
           d.orientation_rate_hz = r.number(node, key, 0.0, 1000.0, true);
         else if (name == "orientation_reliable")
           d.orientation_reliable = r.boolean(node, key);
+        else if (name == "orientation_deadline_periods")
+          d.orientation_deadline_periods = r.number(node, key, 0.0, 1000.0, false);
         else if (name == "profiles_xml") {
           d.profiles_xml = text_of(r.file(), node, key);
           // Checked here, so a bad path is a configuration error (78) at start and on reload.
@@ -349,7 +351,7 @@ void read_dds(const TableReader& r, DdsSettings& d) {
         return true;
       },
       "domain_id, prefix, ros2_naming, publish_imu, imu_topic, frame_id, orientation_rate_hz, orientation_reliable, "
-      "transport, on_duplicate, "
+      "orientation_deadline_periods, transport, on_duplicate, "
       "profiles_xml, discovery_server, command_max_age_s, [dds.security]");
 }
 

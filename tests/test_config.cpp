@@ -183,7 +183,7 @@ give_up_s = 5
   EXPECT_EQ((*iio.mount)(2, 2), -1.0);
   EXPECT_EQ(iio.root, "/tmp/fake");
   EXPECT_EQ(iio.give_up_s, 5.0);
-  // The defaults: our own L3GD20H driver; the IIO source's watermark as the L3GD20H's.
+  // The defaults: our own L3GD20H driver; the IIO source wakes every 7 scans (18.4 ms at 380 Hz).
   EXPECT_EQ(parse_config("", "test.toml").sensor.kind, "l3gd20h");
   EXPECT_EQ(parse_config("", "test.toml").sensor.iio.watermark, 7);
 }

@@ -51,9 +51,9 @@ TEST(L3gd20h, InitSequenceWritesExactlyTheDocumentedRegisters) {
       {LOW_ODR, 0x00},                       // INT2 active high, Low_ODR off
       {FIFO_CTRL, 0x00},                     // bypass clears the FIFO
       {CTRL5, 0x40},                         // FIFO enable
-      {FIFO_CTRL, 0xC6},                     // dynamic stream, watermark 6
+      {FIFO_CTRL, 0xC8},                     // dynamic stream, watermark 8
       {CTRL1, 0xAF},                         // 400 Hz, BW 2, power on, XYZ
-      {FIFO_CTRL, 0x00}, {FIFO_CTRL, 0xC6},  // restart the FIFO after Ton
+      {FIFO_CTRL, 0x00}, {FIFO_CTRL, 0xC8},  // restart the FIFO after Ton
   };
   ASSERT_EQ(sim.writes().size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {

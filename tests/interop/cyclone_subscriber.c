@@ -1,7 +1,9 @@
 /* A subscriber built on Eclipse Cyclone DDS, a second DDS implementation, with types that
  * Cyclone's idlc generates from the same IDL files: proof that a non-Fast-DDS reader, and hence a
  * ROS 2 node, can read headingd's Orientation topic and the ROS 2-named Imu topic.
- * Usage: cyclone_subscriber DOMAIN ORIENTATION_TOPIC IMU_TOPIC MIN_MESSAGES TIMEOUT_S */
+ * Usage: cyclone_subscriber DOMAIN ORIENTATION_TOPIC IMU_TOPIC MIN_MESSAGES TIMEOUT_S [DEADLINE_MS]
+ * With DEADLINE_MS both readers request that deadline: Cyclone matches them only with a writer
+ * that offers a deadline at least as short. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -17,8 +19,9 @@ static double now_s(void) {
 }
 
 int main(int argc, char** argv) {
-  if (argc != 6) {
-    fprintf(stderr, "usage: cyclone_subscriber DOMAIN ORIENTATION_TOPIC IMU_TOPIC MIN_MESSAGES TIMEOUT_S\n");
+  if (argc != 6 && argc != 7) {
+    fprintf(stderr,
+            "usage: cyclone_subscriber DOMAIN ORIENTATION_TOPIC IMU_TOPIC MIN_MESSAGES TIMEOUT_S [DEADLINE_MS]\n");
     return 64;
   }
   const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
@@ -38,6 +41,7 @@ int main(int argc, char** argv) {
   }
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
+  if (argc == 7) dds_qset_deadline(qos, DDS_MSECS(atol(argv[6])));
   const dds_entity_t orientation_reader = dds_create_reader(participant, orientation_topic, qos, NULL);
   const dds_entity_t imu_reader = dds_create_reader(participant, imu_topic, qos, NULL);
   dds_delete_qos(qos);
@@ -69,9 +73,10 @@ int main(int argc, char** argv) {
     if (n > 0) dds_return_loan(imu_reader, samples, n);
     if (n <= 0) dds_sleepfor(DDS_MSECS(2));
   }
-  printf("cyclone: %ld Orientation (last seq %llu, heading %.6f rad), %ld Imu (frame_id '%s', "
-         "linear_acceleration_covariance[0] %g)\n",
-         orientations, last_seq, heading, imus, frame_id, lin_acc_cov0);
+  printf(
+      "cyclone: %ld Orientation (last seq %llu, heading %.6f rad), %ld Imu (frame_id '%s', "
+      "linear_acceleration_covariance[0] %g)\n",
+      orientations, last_seq, heading, imus, frame_id, lin_acc_cov0);
   dds_delete(participant);
   return (orientations >= wanted && imus >= wanted) ? 0 : 1;
 }
