@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Sample age at a subscriber (chip sampling instant -> Orientation received) and the publisher's CPU
-# share for FIFO watermarks 1..16 at 400 Hz, over Fast DDS on loopback: three 10 s runs per
+# share for FIFO watermarks 1..16 at 400 Hz, over Fast DDS on loopback: three 15 s runs per
 # watermark, interleaved so that the machine's load drifts over all of them alike; medians
-# (about 6 minutes). Usage: bench/sample_age.sh [ROUNDS [SECONDS]]
+# (about 8 minutes); the CPU share after the first second. Usage: bench/sample_age.sh [ROUNDS [SECONDS]]
 set -euo pipefail
 source "$(dirname "$0")/../scripts/lib.sh"
 ensure_packages "${HEADINGD_PACKAGES[@]}"
 build_preset default quiet
 rounds="${1:-3}"
-seconds="${2:-10}"
+seconds="${2:-15}"
 watermarks=(1 2 4 6 8 10 16)
 default_watermark="$(sed -n 's/^watermark = \([0-9]*\).*/\1/p' "$HEADINGD_ROOT/config/headingd.toml" | head -1)"
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"

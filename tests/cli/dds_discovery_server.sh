@@ -7,7 +7,10 @@ headingd="$1"
 root="$2"
 dir="$(mktemp -d)"
 pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; wait 2>/dev/null; rm -rf "$dir"; }
+# `fastdds discovery` runs the server as a child of its own: each is started in a session of its
+# own (setsid) and stopped as a whole group, or the server outlives the test.
+stop_group() { kill -- "-$1" 2>/dev/null || kill "$1" 2>/dev/null; }
+cleanup() { for p in "${pids[@]}"; do stop_group "$p"; done; wait 2>/dev/null; rm -rf "$dir"; }
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 command -v fastdds >/dev/null || fail "fastdds (fastdds-tools) is not installed"
@@ -41,7 +44,7 @@ without=$(grep -c '"topic":"orientation"' "$dir/without.out")
 echo "ok: without the server, echo received nothing"
 
 # Phase 2: the server runs on 127.0.0.1:$port (id 0, the prefix headingd asks for).
-fastdds discovery -i 0 -l 127.0.0.1 -p "$port" >"$dir/server.out" 2>&1 &
+setsid fastdds discovery -i 0 -l 127.0.0.1 -p "$port" >"$dir/server.out" 2>&1 &
 pids+=($!)
 sleep 1
 publish_and_listen "$dir/with.out"
@@ -52,10 +55,10 @@ awk -F'"seq":' '{ split($2, a, ","); s = a[1] + 0; if (NR > 1 && s != last + 1) 
 echo "ok: with the server on 127.0.0.1:$port, echo received 20 Orientation messages in order"
 
 # Phase 3: a server with id 1 only, named in the second place of a list (as ROS_DISCOVERY_SERVER does).
-kill "${pids[0]}"; wait "${pids[0]}" 2>/dev/null
+stop_group "${pids[0]}"; wait "${pids[0]}" 2>/dev/null
 port1=$((port + 1))
 sed -i "s/^discovery_server = .*/discovery_server = [\"\", \"127.0.0.1:$port1\"]/" "$dir/cfg.toml"
-fastdds discovery -i 1 -l 127.0.0.1 -p "$port1" >"$dir/server1.out" 2>&1 &
+setsid fastdds discovery -i 1 -l 127.0.0.1 -p "$port1" >"$dir/server1.out" 2>&1 &
 pids+=($!)
 sleep 1
 publish_and_listen "$dir/with1.out"
