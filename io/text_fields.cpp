@@ -1,5 +1,6 @@
 #include "io/text_fields.hpp"
 
+#include <array>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -20,33 +21,77 @@ std::string_view trim(std::string_view text) {
 
 namespace {
 
-// m / 10^d for m < 2^64 (19 digits, as the shortest round-trip text of a double often needs 17)
-// where long double has a 64-bit mantissa (x86's x87): m and 10^d (d <= 27) are exact there and
-// the quotient is correctly rounded to 64 bits. Rounding that to a double is then the correct
-// rounding unless the 64-bit quotient lies exactly on a halfway point between two doubles (its
-// low 11 bits 0x400: there the true quotient may be on either side); that case, with a margin,
-// and every other platform go to from_chars. False when not taken.
-bool extended_quotient(std::uint64_t mantissa, int decimals, double& value) {
-  if constexpr (std::numeric_limits<long double>::digits != 64 || sizeof(long double) < 10) {
-    return false;
-  } else {
-    static constexpr long double kPowers[] = {1e0L,  1e1L,  1e2L,  1e3L,  1e4L,  1e5L,  1e6L,  1e7L,  1e8L,  1e9L,
-                                              1e10L, 1e11L, 1e12L, 1e13L, 1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L,
-                                              1e20L, 1e21L, 1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L};
-    if (decimals > 27) return false;
-    const long double quotient = static_cast<long double>(mantissa) / kPowers[decimals];
-    if (quotient == 0.0L) {
-      value = 0.0;
-      return true;
+// Powers of ten that are exact doubles (10^22 is the last).
+constexpr double kExactPowers[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                   1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+// a * b = p + e exactly (Dekker's product: each factor split into halves of 26 and 27 bits, whose
+// products are exact), or by one fused multiply-add where the target has one.
+struct Halves {
+  double hi = 0.0, lo = 0.0;
+};
+Halves halves(double a) {
+  const double c = 134217729.0 * a;  // 2^27 + 1
+  const double hi = c - (c - a);
+  return {hi, a - hi};
+}
+double product_error(double a, const Halves& b, double p) {
+#if defined(__FMA__)
+  return std::fma(a, b.hi + b.lo, -p);
+#else
+  const Halves h = halves(a);
+  return ((h.hi * b.hi - p) + h.hi * b.lo + h.lo * b.hi) + h.lo * b.lo;
+#endif
+}
+
+// 1 / 10^d as hi + lo to about 106 bits, hi split for Dekker's product: lo = (1 - hi 10^d) / 10^d,
+// whose numerator is exact (hi 10^d = p + e exactly, and 1 - p is exact as p is near 1).
+struct Reciprocal {
+  Halves hi;
+  double lo = 0.0;
+};
+const Reciprocal& reciprocal_of_ten_to(int decimals) {
+  static const auto table = [] {
+    std::array<Reciprocal, std::size(kExactPowers)> out{};
+    for (std::size_t d = 0; d < out.size(); ++d) {
+      const double power = kExactPowers[d];
+      const double hi = 1.0 / power;
+      const double p = hi * power;
+      const double e = product_error(power, halves(hi), p);
+      out[d] = {halves(hi), ((1.0 - p) - e) / power};
     }
-    // The x87 format keeps its 64-bit mantissa, leading bit included, in its first 8 bytes.
-    std::uint64_t bits = 0;
-    std::memcpy(&bits, &quotient, sizeof bits);
-    const std::uint64_t low = bits & 0x7FF;
-    if (low >= 0x3FF && low <= 0x401) return false;
-    value = static_cast<double>(quotient);
-    return true;
-  }
+    return out;
+  }();
+  return table[static_cast<std::size_t>(decimals)];
+}
+
+// m / 10^d for 2^53 <= m < 2^64 (the shortest round-trip text of a double often has 17 digits),
+// d <= 22, without a division: m = mh + ml (mh the nearest double, |ml| <= 2^10, exact),
+// m / 10^d = mh rh + (e + mh rl + ml rh) with mh rh = p + e exactly and 1/10^d = rh + rl. The sum
+// is within about 2^-94 of the quotient, relative, so its rounding to a double is the quotient's
+// unless the quotient lies within that of a halfway point: the rounding's own error (Fast2Sum)
+// near half an ulp, or a power of two (where the ulp changes), goes to from_chars. False then.
+bool reciprocal_quotient(std::uint64_t mantissa, int decimals, double& value) {
+  if (decimals >= static_cast<int>(std::size(kExactPowers))) return false;
+  const Reciprocal& r = reciprocal_of_ten_to(decimals);
+  const auto high = static_cast<double>(mantissa);  // < 1e19 < 2^64: back to an integer exactly
+  const auto low = static_cast<double>(static_cast<std::int64_t>(mantissa - static_cast<std::uint64_t>(high)));
+  const double rh = r.hi.hi + r.hi.lo;
+  const double p = high * rh;
+  const double correction = product_error(high, r.hi, p) + (high * r.lo + low * rh);
+  const double sum = p + correction;
+  const double error = correction - (sum - p);  // exact: |p| >= |correction|
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &sum, sizeof bits);
+  constexpr std::uint64_t kFraction = (std::uint64_t{1} << 52) - 1;
+  if ((bits & kFraction) == 0) return false;
+  const std::uint64_t power_bits = bits & ~kFraction & ~(std::uint64_t{1} << 63);
+  double power = 0.0;  // 2^exponent of sum
+  std::memcpy(&power, &power_bits, sizeof power);
+  const double half_ulp = power * 0x1p-53;
+  if (std::abs(std::abs(error) - half_ulp) <= power * 0x1p-80) return false;
+  value = sum;
+  return true;
 }
 
 // Whether the eight characters at p are all digits, and if so their value (most significant
@@ -78,11 +123,9 @@ bool eight_digits(const char* p, std::uint64_t& value) {
 // machinery: the digits as an integer m and the count of decimals d. When m < 2^53 and d <= 22
 // both m and 10^d are exact doubles and one division is correctly rounded (Clinger's fast
 // path), so the result is bit for bit what from_chars gives; longer mantissas go through
-// extended_quotient. Anything else (an exponent, more digits, "inf", ".5") returns nullptr and
+// reciprocal_quotient. Anything else (an exponent, more digits, "inf", ".5") returns nullptr and
 // goes to from_chars.
 const char* parse_plain_decimal(const char* p, const char* end, double& value) {
-  static constexpr double kPowers[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                       1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
   constexpr std::uint64_t kExactLimit = std::uint64_t{1} << 53;
   const bool negative = p < end && *p == '-';
   if (negative) ++p;
@@ -106,8 +149,8 @@ const char* parse_plain_decimal(const char* p, const char* end, double& value) {
   if (p < end && ((*p >= '0' && *p <= '9') || *p == 'e' || *p == 'E' || *p == '.')) return nullptr;
   double magnitude = 0.0;
   if (mantissa < kExactLimit && decimals <= 22)
-    magnitude = static_cast<double>(mantissa) / kPowers[decimals];
-  else if (!extended_quotient(mantissa, decimals, magnitude))
+    magnitude = static_cast<double>(mantissa) / kExactPowers[decimals];
+  else if (!reciprocal_quotient(mantissa, decimals, magnitude))
     return nullptr;
   value = negative ? -magnitude : magnitude;
   return p;

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
@@ -197,7 +199,7 @@ TEST(CsvReplay, ScannedNumbersEqualFromCharsBitForBit) {
                                     "1e400",
                                     ""};
   // What recordings hold: doubles as their shortest round-trip text (often 17 digits, beyond
-  // 2^53: the extended-precision path), in fixed notation as CsvOut writes them.
+  // 2^53: the double-double path), in fixed notation as CsvOut writes them.
   std::uniform_real_distribution<double> rate(-300.0, 300.0);
   std::uniform_int_distribution<int> scale(-6, 5);
   for (int i = 0; i < 200000; ++i) {
@@ -216,6 +218,36 @@ TEST(CsvReplay, ScannedNumbersEqualFromCharsBitForBit) {
       text += static_cast<char>('0' + random() % 10);
     }
     texts.push_back(text);
+  }
+  // The hard cases for a quotient computed to limited precision: the halfway points between two
+  // neighbouring doubles, cut to 17-19 significant digits and nudged by one in the last digit.
+  for (int i = 0; i < 100000; ++i) {
+    const double value = std::abs(rate(random)) * std::pow(10.0, scale(random));
+    const long double halfway = (static_cast<long double>(value) + std::nextafter(value, 1e300)) / 2;  // exact
+    const int significant = std::uniform_int_distribution<int>(17, 19)(random);
+    const int integer_digits = halfway >= 1 ? static_cast<int>(std::floor(std::log10(halfway))) + 1 : 0;
+    const int decimals = std::max(1, significant - integer_digits);
+    char text[96];
+    std::snprintf(text, sizeof text, "%.*Lf", decimals, halfway);
+    std::string cut(text);
+    texts.push_back(cut);
+    for (const int nudge : {-1, 1}) {
+      std::string other = cut;
+      char& last = other.back();
+      if ((nudge < 0 && last > '0') || (nudge > 0 && last < '9')) {
+        last = static_cast<char>(last + nudge);
+        texts.push_back(other);
+      }
+    }
+  }
+  // Exact halfway points that fit in 19 digits: between integers 2^52..2^53 (ulp 1) at ".5",
+  // between even integers above 2^53 at the odd ones, between halves below 2^52 at ".25"/".75".
+  // from_chars rounds them to even; a quotient that is not exact must hand them over.
+  for (int i = 0; i < 20000; ++i) {
+    const std::uint64_t k = random() % (std::uint64_t{1} << 51);
+    texts.push_back(std::to_string((std::uint64_t{1} << 52) + k) + ".5");
+    texts.push_back(std::to_string((std::uint64_t{1} << 53) + 2 * k + 1));
+    texts.push_back(std::to_string((std::uint64_t{1} << 51) + k / 2) + ((k & 1) ? ".75" : ".25"));
   }
   for (const std::string& text : texts) {
     double scanned = 0.0;
