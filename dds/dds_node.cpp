@@ -185,13 +185,15 @@ struct MotionListener : public DataReaderListener {
 
 // How many readers a writer is matched with: a volatile message that nobody reads is not built
 // at all (Fast DDS would serialize it, file it in the writer's history and send it nowhere).
-// A reader that matches later gets the next one, as volatile durability promises.
+// A reader that matches later gets the next one, as volatile durability promises. A writer that
+// an XML profile made durable keeps everything it is given, for late joiners.
 struct MatchedReaders : public DataWriterListener {
   std::atomic<int> count{0};
+  bool durable = false;
   void on_publication_matched(DataWriter*, const PublicationMatchedStatus& status) override {
     count.store(status.current_count, std::memory_order_relaxed);
   }
-  bool any() const { return count.load(std::memory_order_relaxed) > 0; }
+  bool any() const { return durable || count.load(std::memory_order_relaxed) > 0; }
 };
 
 struct DdsNode::Impl : public DataReaderListener {
@@ -230,6 +232,7 @@ struct DdsNode::Impl : public DataReaderListener {
     DataWriterQos from_profile;
     if (publisher->get_datawriter_qos_from_profile(profile, from_profile) == ReturnCode_t::RETCODE_OK)
       qos = from_profile;
+    if (readers != nullptr) readers->durable = qos.durability().kind != VOLATILE_DURABILITY_QOS;
     auto* w = readers == nullptr ? publisher->create_datawriter(t, qos)
                                  : publisher->create_datawriter(t, qos, readers, StatusMask::publication_matched());
     if (w == nullptr) throw std::runtime_error("cannot create a DDS writer for " + t->get_name());
