@@ -6,7 +6,8 @@
 // bits / 400 kHz) before the call returns. The sampling instant is taken on the simulator's
 // clock anchored to the steady clock, which both processes share, not from the published stamp
 // (that maps sample time to wall time by the least delay seen, and so leaves that delay out).
-// Also the publishing process's CPU share (the simulator's pacing included: an upper bound).
+// Also the publishing process's CPU share after its first second (the simulator's pacing
+// included: an upper bound).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>

@@ -291,7 +291,7 @@ DdsNode::DdsNode(const DdsSettings& settings)
     // loses the oldest, never the newest; reliable keeps 100 and blocks at most 100 ms.
     stream.history().depth = settings.orientation_reliable ? 100 : kOrientationBurst;
     // Promised only when configured: Fast DDS restarts the deadline timer on every write, waking
-    // its event thread twice per period (a quarter of the publisher's CPU at 50 Hz, bench/sample_age).
+    // its event thread once per message (a quarter of the publisher's CPU at 50 Hz, bench/sample_age).
     // A reader requesting a deadline matches only a writer offering one at least as short.
     if (settings.orientation_deadline_periods > 0.0)
       stream.deadline().period =
