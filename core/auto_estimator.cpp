@@ -55,7 +55,8 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
   for (int axis = 0; axis < 3; ++axis)
     filters_[static_cast<std::size_t>(axis)].set_bias(bias_dps[axis], sigma_dps[axis] * sigma_dps[axis]);
   in_startup_ = false;
-  commit_last_accepted();  // nothing to take back across a bias set from outside
+  bias_measured_at(std::numeric_limits<double>::quiet_NaN());  // at the next temperature read
+  commit_last_accepted();                                      // nothing to take back across a bias set from outside
   outlier_ = Outlier{};
   // A restored bias is not confirmed until a stop after motion agrees with it.
   bias_from_startup_only_ = true;
@@ -142,6 +143,7 @@ SegmentVerdict AutoEstimator::close_startup() {
   bias_confirmed_ = false;
   motion_since_basis_ = false;
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
+  bias_measured_at(temp_at_still_c_);
   bias_from_startup_only_ = true;
   startup_start_t_s_ = segment_.start_t_s;
   return verdict;
@@ -326,6 +328,7 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   if (motion_since_startup_) bias_from_startup_only_ = false;
   if (motion_since_basis_) bias_confirmed_ = true;
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
+  bias_measured_at(segment_.temp_count > 0 ? segment_.temp_sum_c / segment_.temp_count : previous_temp_c_);
   last_still_t_s_ = end_t_s;
 }
 
@@ -437,6 +440,7 @@ void AutoEstimator::recover_bias() {
   models_.relearn_after_recovery(quiet_.sigma_dps);
   last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
   if (std::isfinite(previous_temp_c_)) temp_at_still_c_ = previous_temp_c_;  // the run was the stop
+  bias_measured_at(previous_temp_c_);
   previous_.usable = false;
   quiet_ = QuietRun{};
   outlier_ = Outlier{};
@@ -447,15 +451,40 @@ void AutoEstimator::recover_bias() {
   ++recoveries_;
 }
 
-HEADINGD_HOT void AutoEstimator::follow_temperature(double temp_c) {
+HEADINGD_HOT void AutoEstimator::follow_temperature(double temp_c, double t_s) {
   if (!models_.follows_temperature(temp_c, previous_temp_c_)) return;
   for (int axis = 0; axis < 3; ++axis) {
-    double shift = 0.0, variance = 0.0;
-    if (!models_.temperature_shift(axis, temp_c, previous_temp_c_, shift, variance)) continue;
-    filters_[static_cast<std::size_t>(axis)].shift_bias(shift, variance);
+    double shift = 0.0, slope_variance = 0.0;
+    const bool modelled = models_.temperature_shift(axis, temp_c, previous_temp_c_, shift, slope_variance);
+    if (!modelled) slope_variance = settings_.unmodelled_bias_per_c_dps * settings_.unmodelled_bias_per_c_dps;
+    // The slope's error k is one number, not a new draw per step: since the bias was measured
+    // at T0 its error has been k (T - T0) and the angle's -k times the integral of (T - T0)
+    // dt, a rank-one covariance that grows with the temperature's change. Propagation makes
+    // the angle's share of it from the bias's; added here is what it leaves out (none of the
+    // angle's variance, part of the cross term), so that a stop measuring the bias corrects
+    // the heading integrated meanwhile in the right proportion. A change back towards T0
+    // takes no variance away (the model may be curved).
+    const auto i = static_cast<std::size_t>(axis);
+    if (!std::isfinite(temp_at_bias_c_[i])) {  // restored, or started without a still segment
+      temp_at_bias_c_[i] = previous_temp_c_;
+      temp_change_integral_c_s_[i] = 0.0;
+    }
+    const double before_c = previous_temp_c_ - temp_at_bias_c_[i];
+    const double after_c = temp_c - temp_at_bias_c_[i];
+    temp_change_integral_c_s_[i] += before_c * std::max(0.0, t_s - temp_change_t_s_);
+    const double variance = std::max(0.0, slope_variance * (after_c * after_c - before_c * before_c));
+    const double cross = axis == 2 ? -slope_variance * temp_change_integral_c_s_[i] * (after_c - before_c) : 0.0;
+    filters_[i].shift_bias(shift, variance, cross);
     segment_.temperature_shift_dps[axis] += shift;
     segment_.temperature_shift_var[axis] += variance;
   }
+  temp_change_t_s_ = t_s;
+}
+
+void AutoEstimator::bias_measured_at(double temp_c) {
+  temp_at_bias_c_.fill(temp_c);
+  temp_change_integral_c_s_.fill(0.0);
+  temp_change_t_s_ = previous_t_s_;
 }
 
 // One sample: hold still while the start-up segment measures; otherwise close the segment
@@ -506,7 +535,7 @@ SegmentVerdict AutoEstimator::close_segment_if_due(const Sample& sample) {
   if (in_startup_) {
     verdict = close_startup();  // update() comes here only once the start-up segment is full
   } else {
-    follow_temperature(sample.temp_c);
+    follow_temperature(sample.temp_c, sample.t_s);
     const bool full = segment_full(sample.t_s);
     const bool trips = !full && range_gate_trips(sample.rate_dps);
     if (!full && !trips) return verdict;
@@ -607,7 +636,7 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
         break;
       }
       if (n > 0 && models_.follows_temperature(sample.temp_c, previous_temp_c_)) break;  // the next chunk's first
-      if (n == 0) follow_temperature(sample.temp_c);
+      if (n == 0) follow_temperature(sample.temp_c, sample.t_s);
       previous_temp_c_ = sample.temp_c;
       low = low_with, high = high_with;
       dts[n] = sample.t_s - previous_t_s;

@@ -113,7 +113,15 @@ class AutoEstimator {
   // Judges a closed segment (segment_judge) and applies the verdict.
   SegmentVerdict close_segment();
   void accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double t_s);
-  void follow_temperature(double temp_c);
+  void follow_temperature(double temp_c, double t_s);
+  // The bias was just measured (or restored) at this temperature: the share of its variance
+  // that the temperature's change adds counts from here (NaN: from the next reading).
+  void bias_measured_at(double temp_c);
+  std::array<double, 3> temp_at_bias_c_{std::numeric_limits<double>::quiet_NaN(),
+                                        std::numeric_limits<double>::quiet_NaN(),
+                                        std::numeric_limits<double>::quiet_NaN()};
+  std::array<double, 3> temp_change_integral_c_s_{};  // of (T - T at the measurement) dt
+  double temp_change_t_s_ = 0.0;                      // of the last temperature step followed
   // Adds the variance of a possibly wrong still/moving verdict (see AutoSettings).
   void add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted);
   // The probability that a segment passing the range gate is a slow turn, learned from the

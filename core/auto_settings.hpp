@@ -66,6 +66,11 @@ struct AutoSettings {
   // exceeds the still noise, the heading variance grows with it instead.
   double vibration_tau_s = 1.0;
   bool use_temperature = true;
+  // How far the bias may move per degree C where no temperature model carries it (before the
+  // model has learned, or with use_temperature off), 1 sigma, dps/C. The bias variance grows
+  // by (this x the temperature change since the bias was measured)^2; with the model in use,
+  // by its own slope variance x that change^2.
+  double unmodelled_bias_per_c_dps = 0.003;
   TemperatureModelSettings temperature = kDefaultTemperatureModelSettings;
 };
 

@@ -1,5 +1,8 @@
 #include "core/axis_filter.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace headingd::core {
 
 void AxisFilter::reset(double bias_dps, double bias_variance_dps2) {
@@ -8,9 +11,15 @@ void AxisFilter::reset(double bias_dps, double bias_variance_dps2) {
   state_.covariance(1, 1) = bias_variance_dps2;
 }
 
-void AxisFilter::shift_bias(double delta_dps, double variance_dps2) {
+void AxisFilter::shift_bias(double delta_dps, double variance_dps2, double angle_covariance) {
+  Eigen::Matrix2d& p = state_.covariance;
   state_.bias_dps += delta_dps;
-  state_.covariance(1, 1) += variance_dps2;
+  p(1, 1) += variance_dps2;
+  if (angle_covariance != 0.0) {
+    const double bound = std::sqrt(std::max(0.0, p(0, 0) * p(1, 1)));
+    p(0, 1) = std::clamp(p(0, 1) + angle_covariance, -bound, bound);
+    p(1, 0) = p(0, 1);
+  }
 }
 
 double AxisFilter::measure_bias(double mean_dps, double r_dps2) {

@@ -51,8 +51,9 @@ class AxisFilter {
   // Lets time pass while the angle is known not to change (a still segment): only the bias
   // may drift.
   void let_bias_drift(double dt_s, double walk_dps2_per_s) { state_.covariance(1, 1) += walk_dps2_per_s * dt_s; }
-  // A known change of the bias (temperature model), with its variance.
-  void shift_bias(double delta_dps, double variance_dps2);
+  // A known change of the bias (temperature model), with its variance and the covariance it
+  // adds between the angle and the bias (kept within what the two variances allow).
+  void shift_bias(double delta_dps, double variance_dps2, double angle_covariance = 0.0);
   // The mean of a still segment measures the bias with variance r. Returns the innovation.
   double measure_bias(double mean_dps, double r_dps2);
   // An external fix of the angle (heading at a reference point) with variance r.

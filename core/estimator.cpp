@@ -33,6 +33,8 @@ std::optional<std::string> validate(const EstimatorSettings& s) {
     return "auto.block_s must be positive and at most min_segment_s";
   if (a.arw_dps_rt_hz && (!(a.arw_dps_rt_hz->array() > 0.0).all() || !a.arw_dps_rt_hz->allFinite()))
     return "auto.arw_dps_rt_hz must be positive on every axis";
+  if (!(a.unmodelled_bias_per_c_dps >= 0.0) || a.unmodelled_bias_per_c_dps > 1.0)
+    return "temperature.unmodelled_dps_per_c must be within [0, 1]";
   const TemperatureModelSettings& t = a.temperature;
   if (!(t.half_life_s > 0.0)) return "temperature.half_life_s must be positive";
   if (!(t.min_span_c > 0.0) || !(t.quadratic_span_c >= t.min_span_c))

@@ -33,21 +33,20 @@ class SensorModels {
   void add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2);
   // Whether the bias follows a temperature step from `previous_temp_c` to `temp_c` at all.
   bool follows_temperature(double temp_c, double previous_temp_c) const {
-    return settings_.use_temperature && std::isfinite(temp_c) && std::isfinite(previous_temp_c) &&
-           temp_c != previous_temp_c;
+    return std::isfinite(temp_c) && std::isfinite(previous_temp_c) && temp_c != previous_temp_c;
   }
-  // The bias change on one axis that its temperature model predicts for that step, with its
-  // variance; false while the model is not in use. (Inline: it runs on every sample.)
+  // The bias change on one axis that its temperature model predicts for that step, with the
+  // variance of the model's slope; false while the model is not in use. (Inline: it runs on
+  // every sample.)
   bool temperature_shift(int axis, double temp_c, double previous_temp_c, double& shift_dps,
-                         double& variance_dps2) const {
+                         double& slope_variance) const {
     const TemperatureModel& model = temperature_[static_cast<std::size_t>(axis)];
-    if (!model.ready()) return false;
-    const double delta_c = temp_c - previous_temp_c;
+    if (!settings_.use_temperature || !model.ready()) return false;
     // The model's own difference, not slope x step: a slope taken at one end of each step
     // ratchets when the temperature toggles between two readings (the fuzzer found a bias of
     // -10000 dps that way under a quadratic fit); the difference returns to where it started.
     shift_dps = model.predict_dps(temp_c) - model.predict_dps(previous_temp_c);
-    variance_dps2 = model.slope_variance() * delta_c * delta_c;
+    slope_variance = model.slope_variance();
     return true;
   }
   // Sample-to-sample differences of the z rate: vibration while moving.

@@ -137,11 +137,13 @@ void read_temperature(const TableReader& r, core::AutoSettings& a) {
           t.quadratic_span_c = r.number(node, key, 0.0, 1000.0, true);
         else if (name == "min_points")
           t.min_points = r.integer(node, key, 3, 100000);
+        else if (name == "unmodelled_dps_per_c")
+          a.unmodelled_bias_per_c_dps = r.number(node, key, 0.0, 1.0, false);
         else
           return false;
         return true;
       },
-      "enabled, reference_c, half_life_h, min_span_c, quadratic_span_c, min_points");
+      "enabled, reference_c, half_life_h, min_span_c, quadratic_span_c, min_points, unmodelled_dps_per_c");
 }
 
 void read_auto(const TableReader& r, core::AutoSettings& a) {

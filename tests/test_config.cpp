@@ -66,6 +66,7 @@ half_life_h = 2
 min_span_c = 3
 quadratic_span_c = 20
 min_points = 5
+unmodelled_dps_per_c = 0.01
 )",
                                    "test.toml");
   const auto& a = config.estimator.automatic;
@@ -84,6 +85,9 @@ min_points = 5
   EXPECT_DOUBLE_EQ(a.temperature.reference_c, 30.0);
   EXPECT_DOUBLE_EQ(a.temperature.half_life_s, 7200.0);
   EXPECT_EQ(a.temperature.min_points, 5u);
+  EXPECT_DOUBLE_EQ(a.unmodelled_bias_per_c_dps, 0.01);
+  EXPECT_NE(error_of("[estimator.temperature]\nunmodelled_dps_per_c = -0.1\n").find("allowed [0, 1]"),
+            std::string::npos);
   EXPECT_NE(error_of("[estimator.auto]\nk_men = 3\n").find("'estimator.auto.k_men' is not a known key"),
             std::string::npos);
   EXPECT_NE(error_of("[estimator.auto]\nscale_factor_sigma = 2\n").find("allowed [0, 0.5]"), std::string::npos);
