@@ -372,6 +372,9 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   }
   if (!agrees) {
     quiet_ = QuietRun{};
+    // The verdicts before this segment: the run's own rejections must not vouch for it.
+    quiet_.judged_before = judged_weight_ - 1.0;
+    quiet_.rejected_before = rejected_weight_ - 1.0;
     quiet_.filters_at_start = segment_.filters_at_start;
     quiet_.attitude_at_start = segment_.attitude_at_start;
   }
@@ -385,7 +388,8 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   // A run that goes on for many times the wait is no creep any more, whatever its level.
   // Nor when most segments lately were rejected: a bias (or temperature model) gone wrong
   // rejects the stops too, and refusing would lock it in.
-  const bool mostly_rejecting = rejected_weight_ > kMostlyRejecting * judged_weight_;
+  // (Counted before the run began: a creep held for minutes rejects its own segments.)
+  const bool mostly_rejecting = quiet_.rejected_before > kMostlyRejecting * quiet_.judged_before;
   if (!bias_confirmed_ || mostly_rejecting || quiet_run_bias_plausible() ||
       quiet_.duration_s >= kUnconditionalRecoveryFactor * settings_.recover_after_s)
     recover_bias();

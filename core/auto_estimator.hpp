@@ -171,7 +171,8 @@ class AutoEstimator {
     Vec3 sum_sq_dps2_s = Vec3::Zero();  // sum of squared segment mean times length
     std::array<AxisFilter::State, 3> filters_at_start{};
     Eigen::Quaterniond attitude_at_start = Eigen::Quaterniond::Identity();
-    Vec3 sigma_dps = Vec3::Zero();  // per-sample sigma of its latest segment
+    Vec3 sigma_dps = Vec3::Zero();                      // per-sample sigma of its latest segment
+    double judged_before = 0.0, rejected_before = 0.0;  // verdict weights before it began
     Vec3 mean_dps() const { return sum_dps_s / duration_s; }
   };
   // Whether the quiet run's level is a bias the sensor could have reached since its last stop

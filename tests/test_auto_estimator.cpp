@@ -282,6 +282,23 @@ TEST(AutoEstimator, ASlowCurveHeldForMinutesIsNoNewBias) {
   EXPECT_LT(std::abs(rig.error()), 1.0) << "the curve is heading, not bias";
 }
 
+TEST(AutoEstimator, ACreepDoesNotVouchForItselfAsABiasGoneWrong) {
+  // A short history (a 3 s start-up, a 6 s stop after a turn), then a 0.15 dps creep for 120 s:
+  // its own 40 rejected segments make most verdicts so far rejections, the sign of a bias
+  // gone wrong that would otherwise allow the restart. Counted before the creep began, they
+  // are not: the confirmed bias stays, and the creep's 18 deg go into the heading.
+  Rig rig;
+  rig.run(3.0, 0.0);
+  rig.run(3.0, 30.0, 2.0);
+  rig.run(6.0, 0.0);
+  rig.run(120.0, 0.15);
+  rig.run(30.0, 0.0);
+  const AutoEstimator& automatic = *rig.estimator().automatic();
+  EXPECT_EQ(automatic.bias_recoveries(), 0u);
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
+  EXPECT_LT(std::abs(rig.error()), 1.0);
+}
+
 TEST(AutoEstimator, AWrongBiasIsLeftBeforeAStopConfirmsIt) {
   // Started while creeping: the start-up takes the curve for the bias, and the curve's later
   // segments agree with it. None of them confirms it (no motion came between), so the first
