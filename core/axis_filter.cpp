@@ -15,7 +15,7 @@ void AxisFilter::shift_bias(double delta_dps, double variance_dps2, double angle
   Eigen::Matrix2d& p = state_.covariance;
   state_.bias_dps += delta_dps;
   p(1, 1) += variance_dps2;
-  if (angle_covariance != 0.0) {
+  if (angle_covariance != 0.0 && std::isfinite(angle_covariance)) {
     const double bound = std::sqrt(std::max(0.0, p(0, 0) * p(1, 1)));
     p(0, 1) = std::clamp(p(0, 1) + angle_covariance, -bound, bound);
     p(1, 0) = p(0, 1);

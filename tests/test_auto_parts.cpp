@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "core/axis_filter.hpp"
@@ -35,6 +36,38 @@ TEST(AxisFilter, VarianceGrowsWithWhiteNoiseAndBiasUncertainty) {
   uncertain_bias.reset(0.0, 0.001 * 0.001);
   for (int i = 0; i < 1000; ++i) uncertain_bias.propagate(0.0, 0.01, 0.0, 0.0);  // 10 s
   EXPECT_NEAR(std::sqrt(uncertain_bias.angle_variance()), 0.01, 1e-9);           // sigma_b * T
+}
+
+TEST(AxisFilter, ACorrelatedBiasShiftBuildsTheRankOneCovarianceOfASlopeError) {
+  // The bias off by k (T - T0) with k ~ N(0, s^2) and T rising 0.1 C/s: after 100 s the
+  // angle's error is -k times the integral of (T - T0), and the covariance is s^2 v v' with
+  // v = (-integral, T - T0). Propagation makes the angle's share from the bias's; the shifts
+  // add what it leaves out, as AutoEstimator::follow_temperature does at each step.
+  AxisFilter filter;
+  filter.reset(0.0, 0.0);
+  const double s2 = 0.003 * 0.003, dt = 0.01;
+  double before = 0.0, integral = 0.0;
+  for (int i = 1; i <= 10000; ++i) {
+    const double after = 0.1 * i * dt;
+    integral += before * dt;
+    filter.shift_bias(0.0, s2 * (after * after - before * before), -s2 * integral * (after - before));
+    filter.propagate(0.0, dt, 0.0, 0.0);
+    before = after;
+  }
+  integral += before * dt;  // the last step's propagation
+  const Eigen::Matrix2d& p = filter.state().covariance;
+  EXPECT_NEAR(p(1, 1), s2 * 100.0, 1e-9);                        // (10 C)^2
+  EXPECT_NEAR(p(0, 1) / (-s2 * integral * 10.0), 1.0, 1e-3);     // integral ~ 500 C s
+  EXPECT_NEAR(p(0, 0) / (s2 * integral * integral), 1.0, 1e-3);  // fully correlated
+  // A cross term the two variances cannot carry is cut to what they allow; a non-finite one
+  // is ignored.
+  AxisFilter small;
+  small.reset(0.0, 1e-6);
+  small.widen_angle(1e-4);
+  small.shift_bias(0.0, 0.0, -1.0);
+  EXPECT_NEAR(small.state().covariance(0, 1), -1e-5, 1e-15);
+  small.shift_bias(0.0, 0.0, std::numeric_limits<double>::infinity());
+  EXPECT_NEAR(small.state().covariance(0, 1), -1e-5, 1e-15);
 }
 
 TEST(AxisFilter, AngleFixPullsAngle) {
