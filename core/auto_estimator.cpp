@@ -467,7 +467,8 @@ HEADINGD_HOT void AutoEstimator::follow_temperature(double temp_c, double t_s) {
     // the angle's share of it from the bias's; added here is what it leaves out (none of the
     // angle's variance, part of the cross term), so that a stop measuring the bias corrects
     // the heading integrated meanwhile in the right proportion. A change back towards T0
-    // takes no variance away (the model may be curved).
+    // takes no variance away (the model may be curved). A retraction does not restore T0: the
+    // share restarts at the retracted segment's temperature, a little narrow until the next stop.
     const auto i = static_cast<std::size_t>(axis);
     if (!std::isfinite(temp_at_bias_c_[i])) {  // restored, or started without a still segment
       temp_at_bias_c_[i] = previous_temp_c_;

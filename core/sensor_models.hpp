@@ -31,7 +31,8 @@ class SensorModels {
   void relearn_after_recovery(const Vec3& sigma_dps);
   // A still segment's mean at its mean temperature, once its verdict stands.
   void add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2);
-  // Whether the bias follows a temperature step from `previous_temp_c` to `temp_c` at all.
+  // Whether there is a temperature step from `previous_temp_c` to `temp_c` (both read, and
+  // different): the bias sigma follows every one, the bias itself only where a model is in use.
   bool follows_temperature(double temp_c, double previous_temp_c) const {
     return std::isfinite(temp_c) && std::isfinite(previous_temp_c) && temp_c != previous_temp_c;
   }
