@@ -328,7 +328,7 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   if (motion_since_startup_) bias_from_startup_only_ = false;
   if (motion_since_basis_) bias_confirmed_ = true;
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
-  bias_measured_at(segment_.temp_count > 0 ? segment_.temp_sum_c / segment_.temp_count : previous_temp_c_);
+  bias_measured_at(segment_.temp_count > 0 ? temp_at_still_c_ : previous_temp_c_);
   last_still_t_s_ = end_t_s;
 }
 
