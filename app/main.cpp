@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
 
   app::SimulateOptions simulate;
   auto* simulate_cmd = cli.add_subcommand("simulate", "Simulate a gyro recording with its truth");
-  simulate_cmd->add_option("--scenario", simulate.scenario, "paper12h, still, agv, creep or thermal")->required();
+  simulate_cmd->add_option("--scenario", simulate.scenario, app::scenario_names())->required();
   simulate_cmd->add_option("--seed", simulate.seed, "Random seed")->capture_default_str();
   simulate_cmd->add_option("--output-dir", simulate.output_dir, "Directory for imu.csv and truth.csv")->required();
   simulate_cmd->add_option("--hours", simulate.hours, "Length in hours (default: the scenario's own)");

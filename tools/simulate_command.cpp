@@ -42,13 +42,17 @@ std::string provenance(const drivers::Scenario& s, std::uint64_t seed) {
 
 }  // namespace
 
+std::string scenario_names() {
+  std::string known;
+  for (const auto& [name, description] : drivers::scenario_list()) known += (known.empty() ? "" : ", ") + name;
+  return known;
+}
+
 int run_simulate(const SimulateOptions& options) {
   auto scenario = drivers::build_scenario(options.scenario, options.seed, options.hours);
   if (!scenario) {
-    std::string known;
-    for (const auto& [name, description] : drivers::scenario_list()) known += (known.empty() ? "" : ", ") + name;
     std::fprintf(stderr, "headingd: --scenario: unknown scenario '%s' (known: %s)\n", options.scenario.c_str(),
-                 known.c_str());
+                 scenario_names().c_str());
     return kExitUsage;
   }
   if (!(options.hours >= 0.0) || !std::isfinite(options.hours)) {

@@ -11,6 +11,9 @@ struct SimulateOptions {
   double hours = 0.0;  // 0: the scenario's own length
 };
 
+// The scenarios' names, comma-separated (for help and errors).
+std::string scenario_names();
+
 // Writes OUTPUT_DIR/imu.csv (native CSV at the sensor rate, quantised like the chip) and
 // OUTPUT_DIR/truth.csv (time_s,heading_deg,bias_z_dps,moving at 10 Hz).
 int run_simulate(const SimulateOptions& options);
