@@ -299,6 +299,25 @@ TEST(AutoEstimator, ACreepDoesNotVouchForItselfAsABiasGoneWrong) {
   EXPECT_LT(std::abs(rig.error()), 1.0);
 }
 
+TEST(AutoEstimator, ASlowCreepHeldPastTheWaitDoesNotRestartAConfirmedBias) {
+  // A bias confirmed by a stop after a turn, then a 0.025 dps creep held for 120 s: slow
+  // enough to pass the range gate, too fast for the mean test (4 sigma of a 3 s mean), and a
+  // quiet run past the 90 s wait. At the same temperature, 0.025 dps is no level the bias
+  // could have drifted to (a bias instability is thousandths): the restart is refused and the
+  // creep's 3 deg go into the heading. (With the floor of 0.02 dps that the bound had before,
+  // the creep became the bias.)
+  Rig rig;
+  rig.run(3.0, 0.0);
+  rig.run(3.0, 30.0, 2.0);
+  rig.run(60.0, 0.0);
+  rig.run(3.0, -30.0, 2.0);
+  rig.run(120.0, 0.025);
+  rig.run(30.0, 0.0);
+  EXPECT_EQ(rig.estimator().automatic()->bias_recoveries(), 0u);
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.005);
+  EXPECT_LT(std::abs(rig.error()), 0.5);
+}
+
 TEST(AutoEstimator, AWrongBiasIsLeftBeforeAStopConfirmsIt) {
   // Started while creeping: the start-up takes the curve for the bias, and the curve's later
   // segments agree with it. None of them confirms it (no motion came between), so the first
