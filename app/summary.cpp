@@ -24,6 +24,11 @@ void print_estimator(const core::Estimator& estimator) {
                    "  recovered    the bias started again %llu times from a long quiet period it could not "
                    "explain (a start-up while turning?)\n",
                    static_cast<unsigned long long>(d.bias_recoveries));
+    if (d.recoveries_taken_back > 0)
+      std::fprintf(stderr,
+                   "  taken back   %llu of those restarts: a stop after them agreed with the level they replaced "
+                   "(the quiet period was a slow turn)\n",
+                   static_cast<unsigned long long>(d.recoveries_taken_back));
     if (d.refused_recoveries > 0)
       std::fprintf(stderr,
                    "  refused      %llu quiet periods steady at a level the confirmed bias could not have drifted "

@@ -37,6 +37,8 @@ constexpr double kPlausibleFloorDps = 0.005;
 constexpr double kModelMisfitDpsPerC = 0.003;  // a linear fit to a curved bias, per C of change
 constexpr double kUnconditionalRecoveryFactor = 10.0;
 constexpr double kMostlyRejecting = 0.8;
+constexpr double kFewVerdicts = 5.0;
+constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
 constexpr double kVerdictMemory = 0.995;
 
 }  // namespace
@@ -61,6 +63,7 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
   bias_measured_at(std::numeric_limits<double>::quiet_NaN());  // at the next temperature read
   commit_last_accepted();                                      // nothing to take back across a bias set from outside
   outlier_ = Outlier{};
+  replaced_.pending = false;
   // A restored bias is not confirmed until a stop after motion agrees with it.
   bias_from_startup_only_ = true;
   bias_confirmed_ = false;
@@ -87,12 +90,14 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   segment_.filters_at_start[2] = filters_[2].state();
   commit_last_accepted();
   outlier_ = Outlier{};
+  replaced_.pending = false;  // its angles predate the fix
   turned_from_deg_ = filters_[2].angle_deg();
   return filters_[2].angle_deg() - before_deg;
 }
 
 void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {
   filters_[2].restore_angle(heading_deg, variance_deg2);  // the variance saved includes the scale's
+  replaced_.pending = false;
   turned_from_deg_ = heading_deg;
   segment_.filters_at_start[2] = filters_[2].state();
   estimate_.heading_deg = heading_deg;
@@ -159,6 +164,7 @@ SegmentVerdict AutoEstimator::close_segment() {
   verdict.range_ok = long_enough;  // the gate held on every sample of the segment
   if (!long_enough) {
     ++cut_;
+    replaced_.quiet_run_over = true;
     previous_.usable = false;
     quiet_.duration_s = 0.0;  // motion: whatever the quiet run was, it has ended
     commit_last_accepted();   // motion came abruptly: the still segment before it stands
@@ -175,7 +181,8 @@ SegmentVerdict AutoEstimator::close_segment() {
     evidence.predicted_dps[static_cast<Eigen::Index>(axis)] = filters_[axis].bias_dps();
     evidence.predicted_var[static_cast<Eigen::Index>(axis)] = filters_[axis].bias_variance();
   }
-  const Judgement judgement = judge_segment(evidence, previous_, settings_);
+  Judgement judgement = judge_segment(evidence, previous_, settings_);
+  if (!judgement.mean_ok && replaced_.pending && hint_ == MotionHint::None) take_back_recovery(evidence, judgement);
   const bool mean_ok = judgement.mean_ok;
   const bool same_lean = judgement.same_lean;
   verdict.mean_ok = mean_ok;
@@ -330,6 +337,8 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   // start-up without a gate trip may be the same turn going on.
   if (motion_since_startup_) bias_from_startup_only_ = false;
   if (motion_since_basis_) bias_confirmed_ = true;
+  // A segment agreeing with the restarted level after the quiet run has ended decides for it.
+  if (replaced_.quiet_run_over) replaced_.pending = false;
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
   bias_measured_at(segment_.temp_count > 0 ? temp_at_still_c_ : previous_temp_c_);
   last_still_t_s_ = end_t_s;
@@ -393,6 +402,10 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   // rejects the stops too, and refusing would lock it in.
   // (Counted before the run began: a creep held for minutes rejects its own segments.)
   const bool mostly_rejecting = quiet_.rejected_before > kMostlyRejecting * quiet_.judged_before;
+  // A recovery of a bias no stop after motion has confirmed is a choice between two quiet
+  // levels that only a later stop can make (see Replaced); one made because most of many
+  // verdicts were rejections is not (a handful of them says nothing).
+  recovery_ambiguous_ = !bias_confirmed_ && !(mostly_rejecting && quiet_.judged_before >= kFewVerdicts);
   if (!bias_confirmed_ || mostly_rejecting || quiet_run_bias_plausible() ||
       quiet_.duration_s >= kUnconditionalRecoveryFactor * settings_.recover_after_s)
     recover_bias();
@@ -421,6 +434,60 @@ bool AutoEstimator::quiet_run_bias_plausible() const {
   return true;
 }
 
+AxisFilter::State AutoEstimator::as_if_kept(std::size_t axis, const AxisFilter::State& now, double t_s) const {
+  // The filter is linear: what happened since the recovery moved both versions alike, so the
+  // mean is the present one plus their difference carried over the time since. Not so the
+  // covariance: the quiet run's later segments measured the other level, and their information
+  // is not this one's; it is the kept version's, propagated over the time since.
+  const double span_s = std::max(0.0, t_s - replaced_.at_t_s);
+  AxisFilter filter;
+  filter.restore(now);
+  filter.carry_difference(replaced_.as_kept[axis], replaced_.as_restarted[axis], span_s);
+  AxisFilter kept;
+  kept.restore(replaced_.as_kept[axis]);
+  AxisFilter::Plain p = kept.plain();
+  AxisFilter::propagate(p, 0.0, span_s, models_.white_dps2_s()[static_cast<Eigen::Index>(axis)], walk_dps2_per_s_);
+  AxisFilter::State state = filter.state();
+  state.covariance << p.p00, p.p01, p.p01, p.p11;
+  return state;
+}
+
+bool AutoEstimator::take_back_recovery(SegmentEvidence& evidence, Judgement& judgement) {
+  replaced_.quiet_run_over = true;
+  const double end_t_s = segment_.start_t_s + segment_.duration_s;
+  std::array<AxisFilter::State, 3> kept{};
+  SegmentEvidence as_kept = evidence;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    kept[axis] = as_if_kept(axis, filters_[axis].state(), end_t_s);
+    if (!kept[axis].covariance.allFinite() || !std::isfinite(kept[axis].bias_dps)) return false;
+    as_kept.predicted_dps[a] = kept[axis].bias_dps;
+    as_kept.predicted_var[a] = kept[axis].covariance(1, 1);
+  }
+  const Judgement with_kept = judge_segment(as_kept, PreviousSegment{}, settings_);
+  if (!with_kept.mean_ok) return false;
+  const double yaw_change_deg = kept[2].angle_deg - filters_[2].angle_deg();
+  const double start_angle_before_deg = segment_.filters_at_start[2].angle_deg;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    filters_[axis].restore(kept[axis]);
+    segment_.filters_at_start[axis] = as_if_kept(axis, segment_.filters_at_start[axis], segment_.start_t_s);
+  }
+  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_change_deg), Vec3::UnitZ()) * attitude_.attitude());
+  // The segment's zero-rate update goes back to its start: the attitude there turns alike.
+  const double start_yaw_change_deg = segment_.filters_at_start[2].angle_deg - start_angle_before_deg;
+  segment_.attitude_at_start =
+      Eigen::AngleAxisd(deg_to_rad(start_yaw_change_deg), Vec3::UnitZ()) * segment_.attitude_at_start;
+  // Whatever was judged since was judged against the other level.
+  commit_last_accepted();
+  outlier_ = Outlier{};
+  previous_.usable = false;
+  replaced_.pending = false;
+  ++taken_back_;
+  evidence = as_kept;
+  judgement = with_kept;
+  return true;
+}
+
 void AutoEstimator::recover_bias() {
   // Taken for a stop: the heading goes back to the run's start (a zero-rate update over it),
   // the bias starts again from the run's mean, and the heading's variance takes the whole
@@ -437,11 +504,22 @@ void AutoEstimator::recover_bias() {
                                  : std::isfinite(last_still_t_s_) ? last_still_t_s_
                                                                   : run_start_s;
   const double exposed_s = std::max(0.0, run_start_s - trusted_until_s);
+  replaced_.pending = recovery_ambiguous_;
+  replaced_.quiet_run_over = false;
+  replaced_.at_t_s = segment_.start_t_s + segment_.duration_s;
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
+    replaced_.as_kept[axis] = filters_[axis].state();
     const AxisFilter::State& from = quiet_.filters_at_start[axis];
-    const double change_deg = (mean[a] - from.bias_dps) * exposed_s;
-    filters_[axis].restart_bias(from, mean[a], r[a], change_deg * change_deg);
+    // Taken for a stop, the run's own angle left the heading; if it was a creep after all (a
+    // choice only a later stop makes), that angle is the error: the variance covers both, when
+    // the level is one a creep could have (a faster one held for minutes is a turn).
+    const double change_dps = mean[a] - from.bias_dps;
+    const double exposed_deg = change_dps * exposed_s;
+    const bool creep_sized = std::abs(change_dps) <= kFastestCreepDps;
+    const double run_deg = recovery_ambiguous_ && creep_sized ? change_dps * quiet_.duration_s : 0.0;
+    filters_[axis].restart_bias(from, mean[a], r[a], exposed_deg * exposed_deg + run_deg * run_deg);
+    replaced_.as_restarted[axis] = filters_[axis].state();
   }
   attitude_.set_attitude(quiet_.attitude_at_start);
   models_.relearn_after_recovery(quiet_.sigma_dps);

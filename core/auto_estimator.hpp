@@ -79,6 +79,9 @@ class AutoEstimator {
   // Quiet periods that looked like a stop under a wrong bias, whose level the confirmed bias
   // could not have drifted to (a creep or a slow curve held for minutes): no recovery.
   std::uint64_t refused_recoveries() const { return refused_recoveries_; }
+  // Recoveries taken back: a stop agreed with the level the recovery had replaced, and not with
+  // its own (the quiet run was a creep after all).
+  std::uint64_t recoveries_taken_back() const { return taken_back_; }
   double last_still_t_s() const { return last_still_t_s_; }
 
  private:
@@ -189,6 +192,25 @@ class AutoEstimator {
   void follow_quiet_run(const Vec3& mean_dps);
   void recover_bias();
   QuietRun quiet_;
+  // What a recovery of a bias no stop had confirmed replaced, until a stop decides between the
+  // two levels: the filters at the recovery as they were without it (the quiet run integrated
+  // as motion) and just after it. Nothing in the quiet run tells a stop from a creep held as
+  // long after a short start-up; the next stop does.
+  struct Replaced {
+    bool pending = false;
+    bool quiet_run_over = false;  // a cut or a rejected segment has come since the recovery
+    double at_t_s = 0.0;
+    std::array<AxisFilter::State, 3> as_kept{};
+    std::array<AxisFilter::State, 3> as_restarted{};
+  };
+  Replaced replaced_;
+  bool recovery_ambiguous_ = false;  // the recovery under way replaces an unconfirmed bias
+  std::uint64_t taken_back_ = 0;
+  // For a segment the mean test rejected: if it agrees with the replaced level, puts that level
+  // back (the filters now and at the segment's start, the attitude's yaw) and re-judges.
+  bool take_back_recovery(SegmentEvidence& evidence, Judgement& judgement);
+  // A filter state `now` (at time `t_s`) as it would be had the recovery not happened.
+  AxisFilter::State as_if_kept(std::size_t axis, const AxisFilter::State& now, double t_s) const;
   // The bias still rests on the start-up segment alone (and segments running on from it).
   bool bias_from_startup_only_ = false;
   double startup_start_t_s_ = std::numeric_limits<double>::quiet_NaN();  // or the first sample's

@@ -167,6 +167,7 @@ Diagnostics Estimator::diagnostics() const {
     d.retracted_segments = a->retracted_segments();
     d.bias_recoveries = a->bias_recoveries();
     d.refused_recoveries = a->refused_recoveries();
+    d.recoveries_taken_back = a->recoveries_taken_back();
     d.noise_density_dps_rt_hz = a->noise_density_dps_rt_hz();
     d.last_still_t_s = a->last_still_t_s();
     d.motion_hint = a->motion_hint();

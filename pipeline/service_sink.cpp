@@ -22,6 +22,15 @@ void ServiceSink::batch_done(const core::Estimator& estimator, const core::Sampl
     app::log(app::LogPriority::Warning, "bias-recovery", text);
   }
   recoveries_seen_ = diagnostics.bias_recoveries;
+  if (diagnostics.recoveries_taken_back > taken_back_seen_) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "the bias restart was taken back: a stop agreed with the level before it (the quiet period was "
+                  "a slow turn); heading sigma now %.1f deg",
+                  last.heading_sigma_deg);
+    app::log(app::LogPriority::Notice, "bias-recovery", text);
+  }
+  taken_back_seen_ = diagnostics.recoveries_taken_back;
   notifier_.ready();  // after the first good batch
   notifier_.sample_loop_alive();
   const auto now = std::chrono::steady_clock::now();

@@ -318,6 +318,34 @@ TEST(AutoEstimator, ASlowCreepHeldPastTheWaitDoesNotRestartAConfirmedBias) {
   EXPECT_LT(std::abs(rig.error()), 0.5);
 }
 
+TEST(AutoEstimator, ACreepTakenForTheStopAfterAShortStartUpIsTakenBackByTheNextStop) {
+  // A 4 s start-up, then a 0.15 dps creep held for 100 s without a range-gate trip: past the
+  // 90 s wait it is as good a stop as the start-up was, and the bias restarts from it (a start-up
+  // while turning looks the same). The next real stop agrees with the start-up's level and not
+  // with the creep's: the restart is taken back, the creep goes back into the heading, and the
+  // bias is the start-up's again, now confirmed.
+  const auto run = [](bool with_stop_after) {
+    Rig rig;
+    rig.run(4.0, 0.0);
+    rig.run(100.0, 0.15);
+    rig.run(with_stop_after ? 30.0 : 0.0, 0.0);
+    return rig;
+  };
+  Rig rig = run(true);
+  const AutoEstimator& automatic = *rig.estimator().automatic();
+  EXPECT_EQ(automatic.bias_recoveries(), 1u);
+  EXPECT_EQ(automatic.recoveries_taken_back(), 1u);
+  EXPECT_EQ(rig.estimator().diagnostics().recoveries_taken_back, 1u);
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
+  EXPECT_LT(std::abs(rig.error()), 1.0);  // the creep's 15 deg are in the heading
+  // Without that stop the restart stands (nothing has told the two apart yet), with a sigma
+  // that covers the creep's angle it took out of the heading.
+  Rig creep_only = run(false);
+  EXPECT_EQ(creep_only.estimator().automatic()->recoveries_taken_back(), 0u);
+  EXPECT_NEAR(creep_only.estimator().last().bias_dps.z(), -0.30, 0.01);
+  EXPECT_LT(std::abs(creep_only.error()), 2.0 * creep_only.estimator().last().heading_sigma_deg);
+}
+
 TEST(AutoEstimator, AWrongBiasIsLeftBeforeAStopConfirmsIt) {
   // Started while creeping: the start-up takes the curve for the bias, and the curve's later
   // segments agree with it. None of them confirms it (no motion came between), so the first
