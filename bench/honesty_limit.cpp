@@ -53,14 +53,14 @@ void report(const char* name, const std::vector<drivers::OwnModelRun>& runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int runs = argc > 1 ? std::atoi(argv[1]) : 200;
-  const double hours = argc > 2 ? std::atof(argv[2]) : 2.0;
-  const long first = argc > 3 ? std::atol(argv[3]) : 1;
+  const long runs = argc > 1 ? std::strtol(argv[1], nullptr, 10) : 200;
+  const double hours = argc > 2 ? std::strtod(argv[2], nullptr) : 2.0;
+  const long first = argc > 3 ? std::strtol(argv[3], nullptr, 10) : 1;
   if (runs < 1 || !(hours > 0.0)) {
     std::fprintf(stderr, "usage: honesty_limit [RUNS >= 1] [HOURS > 0] [FIRST_SEED]\n");
     return 2;
   }
-  std::printf("per-run sigma honesty in worlds drawn from the filter's own model: %d runs of %.1f h\n", runs, hours);
+  std::printf("per-run sigma honesty in worlds drawn from the filter's own model: %ld runs of %.1f h\n", runs, hours);
   const struct {
     const char* name;
     double scale_sigma;
