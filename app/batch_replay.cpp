@@ -81,7 +81,11 @@ Row replay_one(const std::string& input, const std::string& output, const BatchO
     if (outcome.ending != pipeline::Ending::EndOfInput)
       notes.push_back(outcome.error.empty() ? pipeline::ending_name(outcome.ending) : outcome.error);
     if (d.accepted_segments == 0) notes.push_back("no still segment: bias never measured");
-    if (d.bias_recoveries > 0) notes.push_back(std::to_string(d.bias_recoveries) + " bias recoveries");
+    if (d.bias_recoveries > 0) {
+      std::string note = std::to_string(d.bias_recoveries) + " bias recoveries";
+      if (d.recoveries_taken_back > 0) note += " (" + std::to_string(d.recoveries_taken_back) + " taken back)";
+      notes.push_back(note);
+    }
     if (outcome.estimator_fault) notes.push_back("estimator fault");
     for (const auto& n : notes) row.warnings += (row.warnings.empty() ? "" : "; ") + n;
     if (outcome.ending == pipeline::Ending::BadInput) row.code = kExitDataError;
