@@ -26,16 +26,19 @@ Pooled pool(const OwnModelSettings& settings, int runs) {
   return {static_cast<double>(within) / static_cast<double>(samples), nees / static_cast<double>(samples)};
 }
 
+// A Gaussian error with the filter's variance lies within 2 sigma 95.45 % of the time; the runs'
+// errors are correlated within a run, so a few hundred runs pin the pooled share to about +-1 %.
+void expect_consistent(const Pooled& pooled) {
+  EXPECT_NEAR(pooled.share_within, 0.9545, 0.015);
+  EXPECT_NEAR(pooled.mean_nees, 1.0, 0.25);
+}
+
 }  // namespace
 
 TEST(OwnModelWorld, TheFiltersSigmaIsRightInAWorldDrawnFromItsOwnModel) {
   OwnModelSettings settings;
   settings.hours = 1.0;
-  const Pooled pooled = pool(settings, 200);
-  // A Gaussian error with the filter's variance lies within 2 sigma 95.45 % of the time; the runs'
-  // errors are correlated within a run, so 200 runs pin the pooled share to about +-1 %.
-  EXPECT_NEAR(pooled.share_within, 0.9545, 0.015);
-  EXPECT_NEAR(pooled.mean_nees, 1.0, 0.25);
+  expect_consistent(pool(settings, 200));
 }
 
 TEST(OwnModelWorld, AScaleErrorWithItsShareInTheSigmaStaysConsistent) {
@@ -43,9 +46,7 @@ TEST(OwnModelWorld, AScaleErrorWithItsShareInTheSigmaStaysConsistent) {
   settings.hours = 0.5;
   settings.scale_sigma = 0.003;
   // The scale is one draw per run, so the pooled share needs more runs to settle.
-  const Pooled pooled = pool(settings, 1000);
-  EXPECT_NEAR(pooled.share_within, 0.9545, 0.015);
-  EXPECT_NEAR(pooled.mean_nees, 1.0, 0.25);
+  expect_consistent(pool(settings, 1000));
 }
 
 TEST(OwnModelWorld, AFilterToldTheBiasNeverWalksIsSeenOverconfident) {
