@@ -153,6 +153,14 @@ int main(int argc, char** argv) {
     std::printf("%-13s %9.3f %9.3f %9.3f\n", kNames[m], quantile(by_method[m], 0.5), quantile(by_method[m], 0.9),
                 quantile(by_method[m], 1.0));
   }
+  // The max reads a stretch of error before a restart; the RMS also reads whether it lasts.
+  std::printf("\nRMS |excess| over the floor, deg:\n");
+  std::printf("%-13s %9s %9s %9s\n", "method", "median", "p90", "worst");
+  for (int m = 0; m < kMethods; ++m) {
+    std::vector<double> rms;
+    for (const SeedResult& r : results) rms.push_back(r.excess[m].rms());
+    std::printf("%-13s %9.3f %9.3f %9.3f\n", kNames[m], quantile(rms, 0.5), quantile(rms, 0.9), quantile(rms, 1.0));
+  }
   std::vector<std::string> losses;
   int temperature_worse = 0, honest = 0, too_confident = 0, too_cautious = 0;
   double worst_temperature_cost = 0.0, lowest_honesty = 1.0, share_sum = 0.0;

@@ -491,9 +491,10 @@ bool AutoEstimator::take_back_recovery(SegmentEvidence& evidence, Judgement& jud
 void AutoEstimator::recover_bias() {
   // Taken for a stop: the heading goes back to the run's start (a zero-rate update over it),
   // the bias starts again from the run's mean, and the heading's variance takes the whole
-  // bias change over the time it was integrated with the old bias, for that is unknown:
-  // from the last accepted segment to the run, or from the start when the old bias rests on
-  // the start-up alone (that may have been a turn, held as still).
+  // bias change over the time it was integrated with the old bias, for which was right is
+  // unknown: from the last accepted segment to the run, or from the start when the old bias
+  // rests on the start-up alone (that may have been a turn, held as still; then the heading
+  // since is integrated again with the new bias, below).
   const Vec3 mean = quiet_.mean_dps();
   // The bias variance: the mean's own noise, plus the spread of the segment means, for a run
   // taken for a stop may still hold some slow motion.
@@ -507,6 +508,7 @@ void AutoEstimator::recover_bias() {
   replaced_.pending = recovery_ambiguous_;
   replaced_.quiet_run_over = false;
   replaced_.at_t_s = segment_.start_t_s + segment_.duration_s;
+  double yaw_correction_deg = 0.0;
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
     replaced_.as_kept[axis] = filters_[axis].state();
@@ -518,10 +520,18 @@ void AutoEstimator::recover_bias() {
     const double exposed_deg = change_dps * exposed_s;
     const bool creep_sized = std::abs(change_dps) <= kFastestCreepDps;
     const double run_deg = recovery_ambiguous_ && creep_sized ? change_dps * quiet_.duration_s : 0.0;
-    filters_[axis].restart_bias(from, mean[a], r[a], exposed_deg * exposed_deg + run_deg * run_deg);
+    // A bias resting on the start-up alone replaced by a level no creep reaches: the start-up
+    // was a turn and this the bias all along, so the heading integrated since the start-up
+    // takes it too (the start-up's own seconds, held still, included). A creep-sized change
+    // may be a creep after a true start-up: no correction, which a take-back would have to
+    // undo. The variance keeps the whole change either way.
+    AxisFilter::State corrected = from;
+    if (bias_from_startup_only_ && !creep_sized) corrected.angle_deg -= exposed_deg;
+    if (axis == 2) yaw_correction_deg = corrected.angle_deg - from.angle_deg;
+    filters_[axis].restart_bias(corrected, mean[a], r[a], exposed_deg * exposed_deg + run_deg * run_deg);
     replaced_.as_restarted[axis] = filters_[axis].state();
   }
-  attitude_.set_attitude(quiet_.attitude_at_start);
+  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * quiet_.attitude_at_start);
   models_.relearn_after_recovery(quiet_.sigma_dps);
   last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
   if (std::isfinite(previous_temp_c_)) temp_at_still_c_ = previous_temp_c_;  // the run was the stop

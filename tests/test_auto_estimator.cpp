@@ -243,7 +243,9 @@ TEST(AutoEstimator, StillSegmentsAreNotTakenBack) {
 TEST(AutoEstimator, StartUpWhileTurningRecoversTheBias) {
   // No saved state and the platform turning at start: the start-up segment takes the turn rate
   // for the bias, and every later stop fails the mean test against it. A long quiet period
-  // that agrees with itself is taken for a stop under a wrong bias.
+  // that agrees with itself is taken for a stop under a wrong bias, and a change no creep
+  // makes says the start-up was the turn: the heading since the start-up takes the new bias
+  // too, and the 50 deg turned while the start-up held still come back.
   const auto run_with = [](double recover_after_s) {
     EstimatorSettings settings;
     settings.automatic.recover_after_s = recover_after_s;
@@ -258,8 +260,9 @@ TEST(AutoEstimator, StartUpWhileTurningRecoversTheBias) {
   EXPECT_EQ(rig.estimator().automatic()->bias_recoveries(), 1u);
   EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
   const double error_at_300 = rig.error();
-  const double sigma = rig.estimator().last().heading_sigma_deg;
-  EXPECT_LE(std::abs(error_at_300), 2.0 * sigma) << "the lost turn shows in the sigma: " << sigma << " deg";
+  EXPECT_LT(std::abs(error_at_300), 1.0) << "the turn the start-up held comes back";
+  // Had the start-up been the stop, the correction would be the error: the sigma covers it.
+  EXPECT_GT(rig.estimator().last().heading_sigma_deg, 25.0);
   rig.run(100.0, 0.0);
   EXPECT_NEAR(rig.error(), error_at_300, 0.1) << "and the heading holds from then on";
 }
