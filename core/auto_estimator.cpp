@@ -40,6 +40,9 @@ constexpr double kMostlyRejecting = 0.8;
 constexpr double kFewVerdicts = 5.0;
 constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
 constexpr double kVerdictMemory = 0.995;
+// What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
+// a stop and not a steady turn.
+constexpr double kWaitEvidence = 3.0;
 
 }  // namespace
 
@@ -394,7 +397,7 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   quiet_.sum_dps_s += mean_dps * duration_s;
   quiet_.sum_sq_dps2_s += mean_dps.cwiseAbs2() * duration_s;
   quiet_.sigma_dps = segment_.stats.sigma_dps();
-  if (quiet_.duration_s + kTimeEpsilonS < settings_.recover_after_s) return;
+  if (quiet_.duration_s + kTimeEpsilonS < wait_before_recovery_s()) return;
   // Before a stop after motion has confirmed the bias, the run may be the stop and the bias
   // the turn (a start-up while turning); after, only a level the bias could have drifted to.
   // A run that goes on for many times the wait is no creep any more, whatever its level.
@@ -411,6 +414,21 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
     recover_bias();
   else if (quiet_.duration_s < settings_.recover_after_s + duration_s + kTimeEpsilonS)
     ++refused_recoveries_;  // counted once per run; the run goes on and is looked at again
+}
+
+double AutoEstimator::run_level_evidence() const {
+  // The start-up level or the run's is the bias, the other a steady turn. A zero-rate level is
+  // small (kUnknownBiasSigmaDps) and a turn's rate need not be: the log-likelihood ratio of the
+  // two as biases. (A start-up at 18 dps and a stop at -0.5 dps: 40 nats.)
+  if (!bias_from_startup_only_) return 0.0;
+  const double evidence = (bias_dps().squaredNorm() - quiet_.mean_dps().squaredNorm()) /
+                          (2.0 * kUnknownBiasSigmaDps * kUnknownBiasSigmaDps);
+  return std::max(0.0, evidence);
+}
+
+double AutoEstimator::wait_before_recovery_s() const {
+  // Evidence the wait need not gather: a turn would have to hold a rate near zero to fool it.
+  return std::max(segments_.segment_s, settings_.recover_after_s * (1.0 - run_level_evidence() / kWaitEvidence));
 }
 
 bool AutoEstimator::quiet_run_bias_plausible() const {

@@ -182,6 +182,11 @@ class AutoEstimator {
   // (temperature, bias walk): a creep or a slow curve held for minutes is steady enough to pass
   // for a stop under a wrong bias otherwise. Asked only once a stop after motion confirmed it.
   bool quiet_run_bias_plausible() const;
+  // How long a quiet run must last before it restarts the bias (recover_after_s, or less
+  // against a start-up level far from zero).
+  double wait_before_recovery_s() const;
+  // Nats for the quiet run's level over the start-up's as the bias (0 once confirmed).
+  double run_level_evidence() const;
   // A stop after motion has agreed with the bias since the start-up, restore or recovery it
   // rests on; motion (a range gate trip) has come since that basis.
   bool bias_confirmed_ = false;

@@ -267,6 +267,27 @@ TEST(AutoEstimator, StartUpWhileTurningRecoversTheBias) {
   EXPECT_NEAR(rig.error(), error_at_300, 0.1) << "and the heading holds from then on";
 }
 
+TEST(AutoEstimator, AStartUpLevelFarFromAnyZeroRateLevelGivesWayAtTheFirstStop) {
+  // Started in a 15 dps turn: a zero-rate level that far out is unlikely (the prior's 2 dps
+  // sigma), a stop's -0.45 dps is not, so the first quiet segments after it restart the bias
+  // without the 90 s wait, and the heading since the start-up takes the new bias.
+  Rig rig;
+  rig.run(8.0, 15.0);   // 120 deg, the first 3 s held as a still start-up
+  rig.run(20.0, 0.0);   // a stop far shorter than the wait
+  rig.run(4.0, -20.0);  // and on
+  const AutoEstimator& automatic = *rig.estimator().automatic();
+  EXPECT_EQ(automatic.bias_recoveries(), 1u);
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.02);
+  EXPECT_LT(std::abs(rig.error()), 1.0);
+  // A level near zero is no such evidence: a still start-up at 0.5 dps and a 0.3 dps creep
+  // towards zero for 60 s waits, and the creep stays heading.
+  Rig creep;
+  creep.run(4.0, 0.0);
+  creep.run(60.0, 0.3);
+  EXPECT_EQ(creep.estimator().automatic()->bias_recoveries(), 0u);
+  EXPECT_LT(std::abs(creep.error()), 1.0);
+}
+
 TEST(AutoEstimator, ASlowCurveHeldForMinutesIsNoNewBias) {
   // After a stop that followed motion has confirmed the bias, a steady 0.3 dps curve without
   // vibration for 150 s looks to the quiet-period recovery like a stop under a wrong bias. The
