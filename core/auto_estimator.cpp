@@ -14,9 +14,6 @@ namespace headingd::core {
 namespace {
 
 constexpr double kTimeEpsilonS = 1e-9;
-// Before anything is known the bias could be anywhere within the chip's zero-rate level
-// (datasheet: +-25 dps at 2000 dps full scale; a few dps at 245 dps in practice).
-constexpr double kUnknownBiasSigmaDps = 2.0;
 // A segment under a "stopped" hint whose mean is this far from the bias turns, whatever the
 // hint says: thermal drift of the bias is hundredths of a dps per segment, not tenths.
 constexpr double kHintConflictDps = 0.3;
@@ -55,7 +52,8 @@ AutoEstimator::AutoEstimator(const BiasSettings& segments, const AutoSettings& s
       in_startup_(segments.still_at_start) {
   segment_.blocks = BlockMeans(settings_.block_s);
   if (!in_startup_) {
-    for (auto& filter : filters_) filter.reset(0.0, kUnknownBiasSigmaDps * kUnknownBiasSigmaDps);
+    // Before anything is known the bias could be anywhere within the chip's zero-rate level.
+    for (auto& filter : filters_) filter.reset(0.0, settings.zero_rate_sigma_dps * settings.zero_rate_sigma_dps);
   }
 }
 
@@ -418,11 +416,11 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
 
 double AutoEstimator::run_level_evidence() const {
   // The start-up level or the run's is the bias, the other a steady turn. A zero-rate level is
-  // small (kUnknownBiasSigmaDps) and a turn's rate need not be: the log-likelihood ratio of the
+  // small (zero_rate_sigma_dps) and a turn's rate need not be: the log-likelihood ratio of the
   // two as biases. (A start-up at 18 dps and a stop at -0.5 dps: 40 nats.)
   if (!bias_from_startup_only_) return 0.0;
   const double evidence = (bias_dps().squaredNorm() - quiet_.mean_dps().squaredNorm()) /
-                          (2.0 * kUnknownBiasSigmaDps * kUnknownBiasSigmaDps);
+                          (2.0 * settings_.zero_rate_sigma_dps * settings_.zero_rate_sigma_dps);
   return std::max(0.0, evidence);
 }
 

@@ -60,7 +60,13 @@ struct AutoSettings {
   // whose segments all fail the test yet agree with one another for this long is taken for
   // a stop under a wrong bias, and the bias starts again from it. Longer than any steady
   // creep or turntable run without vibration we expect; 0 turns it off.
-  double recover_after_s = 90.0;  // the next segment's lean on its own, in sigmas of its mean
+  double recover_after_s = 90.0;
+  // How far from zero the chip's zero-rate level may lie, 1 sigma, dps: the bias's prior when
+  // nothing is known, and what makes a start-up level far out (a turn, taken for still) give way
+  // to a stop before recover_after_s. 2: a few dps, an L3GD20H at 245 dps full scale in
+  // practice (the datasheet states +-25 dps at 2000 dps only); chips with a wider zero-rate
+  // tolerance set their own.
+  double zero_rate_sigma_dps = 2.0;  // the next segment's lean on its own, in sigmas of its mean
   double creep_prior = 0.1;
   // Time constant of the running estimate of sample-to-sample noise (vibration), s: while it
   // exceeds the still noise, the heading variance grows with it instead.

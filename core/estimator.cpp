@@ -27,6 +27,8 @@ std::optional<std::string> validate(const EstimatorSettings& s) {
   if (!(a.k_mean_pooled > 0.0) || !std::isfinite(a.k_mean_pooled)) return "auto.k_mean_pooled must be positive";
   if (!(a.bias_walk_dps_rt_s >= 0.0) || !std::isfinite(a.bias_walk_dps_rt_s))
     return "auto.bias_walk_dps_rt_s must be zero or positive";
+  if (!(a.zero_rate_sigma_dps > 0.0) || a.zero_rate_sigma_dps > 100.0)
+    return "auto.zero_rate_sigma_dps must be within (0, 100]";
   if (!(a.scale_factor_sigma >= 0.0) || a.scale_factor_sigma > 0.5)
     return "auto.scale_factor_sigma must be within [0, 0.5]";
   if (!(a.block_s > 0.0) || a.block_s > a.min_segment_s)

@@ -59,6 +59,7 @@ block_s = 0.05
 scale_factor_sigma = 0.003
 retract_before_creep = false
 recover_after_s = 30
+zero_rate_sigma_dps = 20
 [estimator.temperature]
 enabled = false
 reference_c = 30
@@ -81,6 +82,7 @@ unmodelled_dps_per_c = 0.01
   EXPECT_DOUBLE_EQ(a.scale_factor_sigma, 0.003);
   EXPECT_FALSE(a.retract_before_creep);
   EXPECT_DOUBLE_EQ(a.recover_after_s, 30.0);
+  EXPECT_DOUBLE_EQ(a.zero_rate_sigma_dps, 20.0);
   EXPECT_FALSE(a.use_temperature);
   EXPECT_DOUBLE_EQ(a.temperature.reference_c, 30.0);
   EXPECT_DOUBLE_EQ(a.temperature.half_life_s, 7200.0);
@@ -91,6 +93,7 @@ unmodelled_dps_per_c = 0.01
   EXPECT_NE(error_of("[estimator.auto]\nk_men = 3\n").find("'estimator.auto.k_men' is not a known key"),
             std::string::npos);
   EXPECT_NE(error_of("[estimator.auto]\nscale_factor_sigma = 2\n").find("allowed [0, 0.5]"), std::string::npos);
+  EXPECT_NE(error_of("[estimator.auto]\nzero_rate_sigma_dps = 0\n").find("allowed (0, 100]"), std::string::npos);
 }
 
 TEST(Config, EmptyFileKeepsDefaults) {
