@@ -549,6 +549,7 @@ void AutoEstimator::recover_bias() {
   }
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * quiet_.attitude_at_start);
   models_.relearn_after_recovery(quiet_.sigma_dps);
+  if (bias_from_startup_only_) models_.restart_noise_if_inflated(segment_.stats, segment_.blocks, segment_.duration_s);
   last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
   if (std::isfinite(previous_temp_c_)) temp_at_still_c_ = previous_temp_c_;  // the run was the stop
   bias_measured_at(previous_temp_c_);

@@ -6,6 +6,7 @@
 namespace headingd::core {
 namespace {
 constexpr double kMinSigmaStillDps = 1e-6;
+constexpr double kInflatedNoiseRatio = 10.0;
 }  // namespace
 
 SensorModels::SensorModels(const BiasSettings& segments, const AutoSettings& settings)
@@ -41,6 +42,17 @@ void SensorModels::assume_white_if_unknown(const SegmentStats& stats, double dur
 void SensorModels::relearn_after_recovery(const Vec3& sigma_dps) {
   for (auto& model : temperature_) model = TemperatureModel(settings_.temperature);
   if (!segments_.sigma_still_dps) sigma_still_dps_ = sigma_dps.cwiseMax(kMinSigmaStillDps);
+}
+
+void SensorModels::restart_noise_if_inflated(const SegmentStats& stats, const BlockMeans& blocks, double duration_s) {
+  if (settings_.arw_dps_rt_hz) return;
+  SensorModels fresh(segments_, settings_);
+  fresh.learn_from_startup(stats, blocks, duration_s);
+  // A variance ratio no chance spread of a few blocks reaches (F beyond 99.9 % for the dof of one segment).
+  if (!(white_dps2_s_.array() > kInflatedNoiseRatio * fresh.white_dps2_s_.array()).any()) return;
+  pooled_noise_ = fresh.pooled_noise_;
+  white_dps2_s_ = fresh.white_dps2_s_;
+  if (!segments_.sigma_still_dps) sigma_still_dps_ = fresh.sigma_still_dps_;
 }
 
 void SensorModels::add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2) {

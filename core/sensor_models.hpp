@@ -29,6 +29,10 @@ class SensorModels {
   // A recovery restarts the bias from a quiet run: its noise is the new still noise, and the
   // temperature model, which learned from the wrong level, starts over.
   void relearn_after_recovery(const Vec3& sigma_dps);
+  // The noise figures learned so far may come from a start-up that was a turn: a ramp in it
+  // reads as noise, dps where a still gyro has hundredths. If they lie far above this quiet
+  // segment's, they start over from it; a steady turn's noise is a still gyro's, and stays.
+  void restart_noise_if_inflated(const SegmentStats& stats, const BlockMeans& blocks, double duration_s);
   // A still segment's mean at its mean temperature, once its verdict stands.
   void add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2);
   // Whether there is a temperature step from `previous_temp_c` to `temp_c` (both read, and
