@@ -65,8 +65,10 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
   commit_last_accepted();                                      // nothing to take back across a bias set from outside
   outlier_ = Outlier{};
   replaced_.pending = false;
-  // A restored bias is not confirmed until a stop after motion agrees with it.
+  // A restored bias is not confirmed until a stop after motion agrees with it; it has been the
+  // bias from now (or the first sample) on, which a restart's correction goes back to.
   bias_from_startup_only_ = true;
+  startup_start_t_s_ = started_ ? previous_t_s_ : std::numeric_limits<double>::quiet_NaN();
   bias_confirmed_ = false;
   motion_since_basis_ = false;
 }
