@@ -37,6 +37,11 @@ constexpr double kMostlyRejecting = 0.8;
 constexpr double kFewVerdicts = 5.0;
 constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
 constexpr double kVerdictMemory = 0.995;
+// A start-up segment whose block means scatter this many times more than its samples' white
+// noise allows is motion; after this many of them the next is the start-up whatever it looks
+// like (a platform vibrating slowly where it stands would otherwise never start).
+constexpr double kMovingStartupRatio = 15.0;
+constexpr int kMaxMovingStartups = 10;
 // What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
 // a stop and not a steady turn.
 constexpr double kWaitEvidence = 3.0;
@@ -136,15 +141,74 @@ HEADINGD_HOT bool AutoEstimator::range_gate_trips(const Vec3& rate_dps) const {
   return ((high - low).array() > settings_.k_range * models_.sigma_still_dps().array()).any();
 }
 
+bool AutoEstimator::startup_looks_moving() const {
+  // Still, the segment's 0.1 s block means scatter as its white noise allows (the chip's
+  // low-pass can make that a few times the samples' own variance at high rates); a hand or a
+  // vehicle turning moves them by the motion, tens of times more (BROAD's rotations: 20-29).
+  NoiseDensity blocks_only;
+  blocks_only.add(segment_.blocks);
+  if (!blocks_only.known() || segment_.stats.count() < 2) return false;
+  const double dt_s = segment_.duration_s / static_cast<double>(segment_.stats.count());
+  const Vec3 from_samples = segment_.stats.sigma_dps().cwiseAbs2() * dt_s;
+  return (blocks_only.density_squared().array() > kMovingStartupRatio * from_samples.array()).any();
+}
+
+SegmentVerdict AutoEstimator::pass_moving_startup() {
+  // Not a start-up: the heading takes the segment's turn with the bias's prior (zero, within
+  // zero_rate_sigma_dps), and the still start-up to come measures the bias and, through the
+  // angle-bias covariance, corrects what was integrated meanwhile.
+  // The first one was held still as start-ups are: it is integrated now, in one step; the
+  // ones after it are integrated sample by sample (update()).
+  SegmentVerdict verdict{.closed = true, .index = segment_index_};
+  if (moving_startups_++ > 0) return verdict;
+  const double prior_dps2 = settings_.zero_rate_sigma_dps * settings_.zero_rate_sigma_dps;
+  const Vec3 mean = segment_.stats.mean_dps();
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    filters_[axis].reset(0.0, prior_dps2);
+    AxisFilter::Plain p = filters_[axis].plain();
+    AxisFilter::propagate(p, mean[static_cast<Eigen::Index>(axis)], segment_.duration_s, 0.0, walk_dps2_per_s_);
+    filters_[axis].set_plain(p);
+  }
+  attitude_.set_attitude(startup_attitude_with_bias(Vec3::Zero(), startup_turns_.size()));
+  return verdict;
+}
+
+Eigen::Quaterniond AutoEstimator::startup_attitude_with_bias(const Vec3& bias_dps, std::size_t count) const {
+  AttitudeIntegrator again;
+  again.set_attitude(attitude_at_startup_);
+  for (std::size_t i = 0; i < std::min(count, startup_turns_.size()); ++i) {
+    const AttitudeIntegrator::Turn& t = startup_turns_[i];
+    again.add(Vec3(t.x_dps, t.y_dps, t.z_dps) - bias_dps, t.dt_s);
+  }
+  return again.attitude();
+}
+
 SegmentVerdict AutoEstimator::close_startup() {
+  if (moving_startups_ < kMaxMovingStartups && startup_looks_moving()) return pass_moving_startup();
   in_startup_ = false;
   SegmentVerdict verdict{.closed = true, .index = segment_index_, .range_ok = true, .mean_ok = true, .accepted = true};
   const auto& stats = segment_.stats;
   const double duration_s = std::max(segment_.duration_s, kTimeEpsilonS);
   models_.learn_from_startup(stats, segment_.blocks, duration_s);
   const Vec3 r = models_.white_dps2_s() / duration_s;
-  for (std::size_t axis = 0; axis < 3; ++axis)
-    filters_[axis].reset(stats.mean_dps()[static_cast<Eigen::Index>(axis)], r[static_cast<Eigen::Index>(axis)]);
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    if (moving_startups_ == 0) {
+      filters_[axis].reset(stats.mean_dps()[a], r[a]);
+    } else {
+      // After start-up segments that moved: a zero-rate update over this one, and the level
+      // taken for the bias since the first sample, as any start-up's is: through the covariance
+      // the heading they ran on the prior takes it (the whole of it, as a restart's correction
+      // later assumes), and the bias variance is the mean's.
+      filters_[axis].restore(segment_.filters_at_start[axis]);
+      filters_[axis].measure_bias(stats.mean_dps()[a], 0.0);
+      filters_[axis].set_bias_variance(r[a]);
+    }
+  }
+  // The attitude: the motion before this segment with the bias just measured; over it, none.
+  if (moving_startups_ > 0)
+    attitude_.set_attitude(startup_attitude_with_bias(stats.mean_dps(), startup_turns_before_segment_));
+  std::vector<AttitudeIntegrator::Turn>().swap(startup_turns_);
   if (segment_.temp_count > 0) {
     models_.add_temperature_point(segment_.start_t_s + 0.5 * duration_s, segment_.temp_sum_c / segment_.temp_count,
                                   stats.mean_dps(), r);
@@ -156,7 +220,9 @@ SegmentVerdict AutoEstimator::close_startup() {
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
   bias_measured_at(temp_at_still_c_);
   bias_from_startup_only_ = true;
-  startup_start_t_s_ = segment_.start_t_s;
+  // After start-up segments that moved, the measurement has already mended the heading since
+  // the first sample: a restart's correction goes back that far.
+  if (moving_startups_ == 0) startup_start_t_s_ = segment_.start_t_s;
   return verdict;
 }
 
@@ -614,10 +680,23 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
   const double dt_s = sample.t_s - previous_t_s_;
   previous_t_s_ = sample.t_s;
   if (in_startup_ && !segment_full(sample.t_s)) {
-    hold_during_startup(sample, dt_s);
+    startup_turns_.push_back({sample.rate_dps.x(), sample.rate_dps.y(), sample.rate_dps.z(), dt_s});
+    if (moving_startups_ == 0) {
+      hold_during_startup(sample, dt_s);
+      return estimate_;
+    }
+    // After a start-up segment that moved, the next ones are integrated as they come.
+    previous_temp_c_ = sample.temp_c;
+    add_to_segment(sample, dt_s);
+    propagate(sample, dt_s);
+    fill_estimate(sample);
     return estimate_;
   }
   estimate_.closed = close_segment_if_due(sample);
+  if (in_startup_) {  // the first sample of another start-up segment
+    startup_turns_before_segment_ = startup_turns_.size();
+    startup_turns_.push_back({sample.rate_dps.x(), sample.rate_dps.y(), sample.rate_dps.z(), dt_s});
+  }
   previous_temp_c_ = sample.temp_c;
   add_to_segment(sample, dt_s);
   propagate(sample, dt_s);
@@ -632,6 +711,8 @@ void AutoEstimator::start(const Sample& sample) {
   previous_temp_c_ = sample.temp_c;
   begin_segment(sample.t_s);
   add_to_segment(sample, 0.0);
+  attitude_at_startup_ = attitude_.attitude();
+  startup_turns_before_segment_ = 0;
   fill_estimate(sample);
 }
 
@@ -706,7 +787,7 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
   estimate_.attitude = attitude_.attitude();
   estimate_.bias_dps = bias;
   estimate_.rate_dps = sample.rate_dps - bias;
-  if (in_startup_) {
+  if (in_startup_ && moving_startups_ == 0) {
     estimate_.heading_sigma_deg = 0.0;  // held by assumption: the platform is still
     estimate_.bias_sigma_dps = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   } else {

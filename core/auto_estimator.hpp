@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "core/attitude_integrator.hpp"
 #include "core/auto_settings.hpp"
@@ -76,6 +77,8 @@ class AutoEstimator {
   std::uint64_t retracted_segments() const { return retracted_; }
   // Times the bias started again from a long quiet period it could not explain (recover_after_s).
   std::uint64_t bias_recoveries() const { return recoveries_; }
+  // Start-up segments that looked like motion and were integrated, not taken for the bias.
+  int moving_startup_segments() const { return moving_startups_; }
   // Quiet periods that looked like a stop under a wrong bias, whose level the confirmed bias
   // could not have drifted to (a creep or a slow curve held for minutes): no recovery.
   std::uint64_t refused_recoveries() const { return refused_recoveries_; }
@@ -113,6 +116,17 @@ class AutoEstimator {
   void add_to_segment(const Sample& sample, double dt_s);
   bool range_gate_trips(const Vec3& rate_dps) const;
   SegmentVerdict close_startup();
+  // The start-up segment's block means scatter like motion, not like a still gyro's noise.
+  bool startup_looks_moving() const;
+  SegmentVerdict pass_moving_startup();
+  int moving_startups_ = 0;  // start-up segments passed over as motion
+  // Every sample while the start-up lasts (at most kMaxMovingStartups + 1 segments), and the
+  // attitude before them: once a still start-up has measured the bias, the motion before it is
+  // integrated again with it, in 3-D (a yaw turn mends only a level platform).
+  std::vector<AttitudeIntegrator::Turn> startup_turns_;
+  std::size_t startup_turns_before_segment_ = 0;
+  Eigen::Quaterniond attitude_at_startup_ = Eigen::Quaterniond::Identity();
+  Eigen::Quaterniond startup_attitude_with_bias(const Vec3& bias_dps, std::size_t count) const;
   // Judges a closed segment (segment_judge) and applies the verdict.
   SegmentVerdict close_segment();
   void accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double t_s);
