@@ -38,10 +38,12 @@ constexpr double kFewVerdicts = 5.0;
 constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
 constexpr double kVerdictMemory = 0.995;
 // A start-up segment whose block means scatter this many times more than its samples' white
-// noise allows is motion; after this many of them the next is the start-up whatever it looks
-// like (a platform vibrating slowly where it stands would otherwise never start).
+// noise allows is motion; after this many of them (5 minutes) the next is the start-up whatever
+// it looks like (a platform vibrating slowly where it stands would otherwise never start). Not
+// fewer: a vehicle or a hand may move for minutes before its first stop (BROAD's tapping and
+// vibration trials move for two, and a start-up forced inside that was a wrong bias).
 constexpr double kMovingStartupRatio = 15.0;
-constexpr int kMaxMovingStartups = 10;
+constexpr int kMaxMovingStartups = 100;
 // What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
 // a stop and not a steady turn.
 constexpr double kWaitEvidence = 3.0;
