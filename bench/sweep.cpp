@@ -158,6 +158,7 @@ int main(int argc, char** argv) {
   std::printf("%-13s %9s %9s %9s\n", "method", "median", "p90", "worst");
   for (int m = 0; m < kMethods; ++m) {
     std::vector<double> rms;
+    rms.reserve(results.size());
     for (const SeedResult& r : results) rms.push_back(r.excess[m].rms());
     std::printf("%-13s %9.3f %9.3f %9.3f\n", kNames[m], quantile(rms, 0.5), quantile(rms, 0.9), quantile(rms, 1.0));
   }
