@@ -44,6 +44,7 @@ constexpr double kVerdictMemory = 0.995;
 // vibration trials move for two, and a start-up forced inside that was a wrong bias).
 constexpr double kMovingStartupRatio = 15.0;
 constexpr int kMaxMovingStartups = 100;
+constexpr double kStartupTurnS = 0.005;  // the start-up's samples are kept this long at a time
 // What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
 // a stop and not a steady turn.
 constexpr double kWaitEvidence = 3.0;
@@ -171,8 +172,27 @@ SegmentVerdict AutoEstimator::pass_moving_startup() {
     AxisFilter::propagate(p, mean[static_cast<Eigen::Index>(axis)], segment_.duration_s, 0.0, walk_dps2_per_s_);
     filters_[axis].set_plain(p);
   }
+  flush_startup_turn();
   attitude_.set_attitude(startup_attitude_with_bias(Vec3::Zero(), startup_turns_.size()));
   return verdict;
+}
+
+void AutoEstimator::keep_startup_turn(const Vec3& rate_dps, double dt_s) {
+  // Kept 5 ms at a time (their mean rate): five minutes at 8 kHz would be 70 MB a sample at a
+  // time, and 2 MB so. Not longer: averaging over 0.1 s cost BROAD's fast rotations (several
+  // hundred dps) half their heading again (bench/broad_moving_start.sh, broad-08: 22 -> 57 deg).
+  pending_turn_.x_dps += rate_dps.x() * dt_s;
+  pending_turn_.y_dps += rate_dps.y() * dt_s;
+  pending_turn_.z_dps += rate_dps.z() * dt_s;
+  pending_turn_.dt_s += dt_s;
+  if (pending_turn_.dt_s + kTimeEpsilonS >= kStartupTurnS) flush_startup_turn();
+}
+
+void AutoEstimator::flush_startup_turn() {
+  if (pending_turn_.dt_s <= 0.0) return;
+  const double dt_s = pending_turn_.dt_s;
+  startup_turns_.push_back({pending_turn_.x_dps / dt_s, pending_turn_.y_dps / dt_s, pending_turn_.z_dps / dt_s, dt_s});
+  pending_turn_ = AttitudeIntegrator::Turn{};
 }
 
 Eigen::Quaterniond AutoEstimator::startup_attitude_with_bias(const Vec3& bias_dps, std::size_t count) const {
@@ -211,6 +231,7 @@ SegmentVerdict AutoEstimator::close_startup() {
   if (moving_startups_ > 0)
     attitude_.set_attitude(startup_attitude_with_bias(stats.mean_dps(), startup_turns_before_segment_));
   std::vector<AttitudeIntegrator::Turn>().swap(startup_turns_);
+  pending_turn_ = AttitudeIntegrator::Turn{};
   if (segment_.temp_count > 0) {
     models_.add_temperature_point(segment_.start_t_s + 0.5 * duration_s, segment_.temp_sum_c / segment_.temp_count,
                                   stats.mean_dps(), r);
@@ -682,7 +703,7 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
   const double dt_s = sample.t_s - previous_t_s_;
   previous_t_s_ = sample.t_s;
   if (in_startup_ && !segment_full(sample.t_s)) {
-    startup_turns_.push_back({sample.rate_dps.x(), sample.rate_dps.y(), sample.rate_dps.z(), dt_s});
+    keep_startup_turn(sample.rate_dps, dt_s);
     if (moving_startups_ == 0) {
       hold_during_startup(sample, dt_s);
       return estimate_;
@@ -696,8 +717,9 @@ const Estimate& AutoEstimator::update(const Sample& sample) {
   }
   estimate_.closed = close_segment_if_due(sample);
   if (in_startup_) {  // the first sample of another start-up segment
+    flush_startup_turn();
     startup_turns_before_segment_ = startup_turns_.size();
-    startup_turns_.push_back({sample.rate_dps.x(), sample.rate_dps.y(), sample.rate_dps.z(), dt_s});
+    keep_startup_turn(sample.rate_dps, dt_s);
   }
   previous_temp_c_ = sample.temp_c;
   add_to_segment(sample, dt_s);

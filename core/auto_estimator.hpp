@@ -123,7 +123,10 @@ class AutoEstimator {
   // Every sample while the start-up lasts (at most kMaxMovingStartups + 1 segments), and the
   // attitude before them: once a still start-up has measured the bias, the motion before it is
   // integrated again with it, in 3-D (a yaw turn mends only a level platform).
-  std::vector<AttitudeIntegrator::Turn> startup_turns_;
+  std::vector<AttitudeIntegrator::Turn> startup_turns_;  // mean rates over 5 ms
+  AttitudeIntegrator::Turn pending_turn_{};              // the block being summed (rate x dt)
+  void keep_startup_turn(const Vec3& rate_dps, double dt_s);
+  void flush_startup_turn();
   std::size_t startup_turns_before_segment_ = 0;
   Eigen::Quaterniond attitude_at_startup_ = Eigen::Quaterniond::Identity();
   Eigen::Quaterniond startup_attitude_with_bias(const Vec3& bias_dps, std::size_t count) const;

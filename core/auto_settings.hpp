@@ -53,8 +53,8 @@ struct AutoSettings {
   // one's acceptance back, exactly as if it had been judged moving from the start, so the
   // bias does not keep a piece of the creep.
   bool retract_before_creep = true;
-  double retract_min_lean = 1.0;  // the first segment's own lean, in sigmas of its mean
-  double retract_next_lean = 2.0;
+  double retract_min_lean = 1.0;   // the first segment's own lean, in sigmas of its mean
+  double retract_next_lean = 2.0;  // the next segment's lean on its own, in sigmas of its mean
   // A start-up while the platform turned (no saved state) takes the turn rate for the bias,
   // and every later stop then fails the mean test against it. A quiet period (no gate trip)
   // whose segments all fail the test yet agree with one another for this long is taken for
@@ -66,7 +66,7 @@ struct AutoSettings {
   // to a stop before recover_after_s. 2: a few dps, an L3GD20H at 245 dps full scale in
   // practice (the datasheet states +-25 dps at 2000 dps only); chips with a wider zero-rate
   // tolerance set their own.
-  double zero_rate_sigma_dps = 2.0;  // the next segment's lean on its own, in sigmas of its mean
+  double zero_rate_sigma_dps = 2.0;
   double creep_prior = 0.1;
   // Time constant of the running estimate of sample-to-sample noise (vibration), s: while it
   // exceeds the still noise, the heading variance grows with it instead.
