@@ -6,31 +6,16 @@
 # figures; before the moving start-up was detected, auto gave 54-124 deg on every cut).
 # Usage: broad_moving_start.sh HEADINGD BROAD_HEADING_ERROR DATA_ROOT
 set -uo pipefail
-headingd="$1"
-score="$2"
-data="$3"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
-[ -d "$data/broad-05" ] || { echo "SKIP: no $data/broad-05"; exit 77; }
+source "$(dirname "$0")/broad_common.sh"
 # trial:largest auto/raw ratio accepted (today: 1.002, 0.20, 0.69, 3.78, 1.07; broad-24's is the
 # start-up segment's 3 s, held still as every start-up is until its blocks are judged)
 for limit in broad-01:1.05 broad-05:0.25 broad-08:0.75 broad-24:3.9 broad-26:1.1; do
   trial="${limit%%:*}"
-  max="${limit#*:}"
   first=$(awk -F, 'NR > 1 && $6 == 1 { print $1; exit }' "$data/$trial/truth.csv")
   [ -n "$first" ] || fail "$trial: no movement in its truth"
   cut=$(awk -v a="$first" 'BEGIN { printf "%.3f", a + 3 }')
   awk -F, -v c="$cut" 'NR == 1 || $1 / 1e9 >= c' "$data/$trial/imu.csv" >"$dir/imu.csv"
   awk -F, -v c="$cut" 'NR == 1 || $1 >= c' "$data/$trial/truth.csv" >"$dir/truth.csv"
-  "$headingd" replay --no-dds --quiet "$dir/imu.csv" --output-rate 0 -o "$dir/est.csv" 2>/dev/null ||
-    fail "$trial: replay failed"
-  out=$("$score" "$dir/truth.csv" "$dir/imu.csv" "auto=$dir/est.csv") || fail "$trial: $out"
-  raw=$(sed -n 's/.*no bias removal *\([0-9.]*\).*/\1/p' <<<"$out")
-  auto=$(sed -n 's/.*headingd auto *\([0-9.]*\).*/\1/p' <<<"$out")
-  [ -n "$raw" ] && [ -n "$auto" ] || fail "$trial: no figures in: $out"
-  ratio=$(awk -v a="$auto" -v r="$raw" 'BEGIN { printf "%.3f", a / r }')
-  echo "$trial from $cut s: auto $auto deg, raw gyro $raw deg, ratio $ratio (at most $max)"
-  awk -v x="$ratio" -v m="$max" 'BEGIN { exit !(x <= m) }' || fail "$trial: auto/raw $ratio above $max"
+  check_ratio "$trial from $cut s" "$dir/imu.csv" "$dir/truth.csv" "no bias removal" "${limit#*:}"
 done
 echo "ok: five BROAD trials started while moving"

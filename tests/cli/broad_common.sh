@@ -1,0 +1,26 @@
+# Shared by broad_trials.sh and broad_moving_start.sh (sourced, with their three arguments):
+# a scratch directory, and one replay scored against the BROAD truth as a ratio to a reference.
+# Arguments of the sourcing script: HEADINGD BROAD_HEADING_ERROR DATA_ROOT
+headingd="$1"
+score="$2"
+data="$3"
+dir="$(mktemp -d)"
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+[ -d "$data/broad-05" ] || { echo "SKIP: no $data/broad-05"; exit 77; }
+
+# check_ratio LABEL IMU TRUTH REFERENCE_LINE MAX: replays IMU with auto, scores it, and fails if
+# auto's heading RMSE over the reference (the figure on the scorer's line matching REFERENCE_LINE)
+# is above MAX.
+check_ratio() {
+  local label="$1" imu="$2" truth="$3" reference_line="$4" max="$5" out reference auto ratio
+  "$headingd" replay --no-dds --quiet "$imu" --output-rate 0 -o "$dir/est.csv" 2>/dev/null ||
+    fail "$label: replay failed"
+  out=$("$score" "$truth" "$imu" "auto=$dir/est.csv") || fail "$label: $out"
+  reference=$(sed -n "s/.*${reference_line} *\([0-9.]*\).*/\1/p" <<<"$out")
+  auto=$(sed -n 's/.*headingd auto *\([0-9.]*\).*/\1/p' <<<"$out")
+  [ -n "$reference" ] && [ -n "$auto" ] || fail "$label: no figures in: $out"
+  ratio=$(awk -v a="$auto" -v r="$reference" 'BEGIN { printf "%.3f", a / r }')
+  echo "$label: auto $auto deg, $reference_line $reference deg, ratio $ratio (at most $max)"
+  awk -v x="$ratio" -v m="$max" 'BEGIN { exit !(x <= m) }' || fail "$label: auto/reference $ratio above $max"
+}
