@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "core/units.hpp"
 
@@ -48,6 +49,9 @@ constexpr double kStartupTurnS = 0.005;  // the start-up's samples are kept this
 // What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
 // a stop and not a steady turn.
 constexpr double kWaitEvidence = 3.0;
+// A restart's level is the one an earlier stop measured when they lie within this many sigmas of
+// their spread and the bias walk between (core/bias_history.hpp).
+constexpr double kReturnSigmas = 3.0;
 
 }  // namespace
 
@@ -101,7 +105,8 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   segment_.filters_at_start[2] = filters_[2].state();
   commit_last_accepted();
   outlier_ = Outlier{};
-  replaced_.pending = false;  // its angles predate the fix
+  replaced_.pending = false;       // its angles predate the fix
+  return_correction_deg_.reset();  // and so does a correction held for a return
   turned_from_deg_ = filters_[2].angle_deg();
   return filters_[2].angle_deg() - before_deg;
 }
@@ -125,6 +130,7 @@ void AutoEstimator::begin_segment(double t_s) {
   segment_.attitude_at_start = attitude_.attitude();
   segment_.temperature_shift_dps.setZero();
   segment_.temperature_shift_var.setZero();
+  segment_.history_at_start = history_.mark();
 }
 
 HEADINGD_HOT void AutoEstimator::add_to_segment(const Sample& sample, double dt_s) {
@@ -238,6 +244,7 @@ SegmentVerdict AutoEstimator::close_startup() {
   }
   ++accepted_;
   last_still_t_s_ = segment_.start_t_s + duration_s;
+  history_.measured(last_still_t_s_, filters_[2].bias_dps(), filters_[2].bias_variance());
   bias_confirmed_ = false;
   motion_since_basis_ = false;
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
@@ -411,6 +418,16 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
     filters_[axis].shift_bias(segment_.temperature_shift_dps[a], segment_.temperature_shift_var[a]);
     filters_[axis].measure_bias(mean_dps[a], r_dps2[a]);
   }
+  if (return_correction_deg_ && motion_since_basis_) {
+    // A stop after motion agrees with the level a restart returned to: the heading takes the
+    // correction held since (its variance was added at the restart).
+    AxisFilter::State z = filters_[2].state();
+    z.angle_deg += *return_correction_deg_;
+    filters_[2].restore(z);
+    return_correction_deg_.reset();
+  }
+  history_.rewind(segment_.history_at_start);
+  history_.measured(end_t_s, filters_[2].bias_dps(), filters_[2].bias_variance());
   // The attitude goes back to the segment's start, turned about the vertical by the heading
   // correction the bias measurement made to the time before.
   const double yaw_correction_deg = filters_[2].angle_deg() - segment_.filters_at_start[2].angle_deg;
@@ -481,6 +498,7 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
     quiet_.rejected_before = rejected_weight_ - 1.0;
     quiet_.filters_at_start = segment_.filters_at_start;
     quiet_.attitude_at_start = segment_.attitude_at_start;
+    quiet_.history_at_start = segment_.history_at_start;
   }
   quiet_.duration_s += duration_s;
   quiet_.sum_dps_s += mean_dps * duration_s;
@@ -589,6 +607,7 @@ bool AutoEstimator::take_back_recovery(SegmentEvidence& evidence, Judgement& jud
   outlier_ = Outlier{};
   previous_.usable = false;
   replaced_.pending = false;
+  return_correction_deg_.reset();
   ++taken_back_;
   evidence = as_kept;
   judgement = with_kept;
@@ -616,6 +635,16 @@ void AutoEstimator::recover_bias() {
   replaced_.quiet_run_over = false;
   replaced_.at_t_s = segment_.start_t_s + segment_.duration_s;
   double yaw_correction_deg = 0.0;
+  // A level a stop measured before (the bias never moved; creeps, a temperature model or a bias
+  // set from outside took the estimate away from it): the heading since that stop owes the
+  // difference, held until a stop after motion agrees with the level (return_correction_deg_).
+  // Not where the start-up's own correction below applies.
+  const bool startup_corrected =
+      bias_from_startup_only_ && std::abs(mean.z() - quiet_.filters_at_start[2].bias_dps) > kFastestCreepDps;
+  const std::optional<double> returned_deg =
+      startup_corrected ? std::nullopt
+                        : history_.correction_for_return(mean.z(), r.z(), walk_dps2_per_s_, kReturnSigmas,
+                                                         quiet_.history_at_start, run_start_s);
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
     replaced_.as_kept[axis] = filters_[axis].state();
@@ -634,11 +663,16 @@ void AutoEstimator::recover_bias() {
     // undo. The variance keeps the whole change either way.
     AxisFilter::State corrected = from;
     if (bias_from_startup_only_ && !creep_sized) corrected.angle_deg -= exposed_deg;
+    const double returned = axis == 2 && returned_deg ? *returned_deg : 0.0;
     if (axis == 2) yaw_correction_deg = corrected.angle_deg - from.angle_deg;
-    filters_[axis].restart_bias(corrected, mean[a], r[a], exposed_deg * exposed_deg + run_deg * run_deg);
+    filters_[axis].restart_bias(corrected, mean[a], r[a],
+                                exposed_deg * exposed_deg + run_deg * run_deg + returned * returned);
     replaced_.as_restarted[axis] = filters_[axis].state();
   }
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * quiet_.attitude_at_start);
+  history_.rewind(quiet_.history_at_start);
+  history_.measured(replaced_.at_t_s, mean.z(), r.z());
+  return_correction_deg_ = returned_deg;
   models_.relearn_after_recovery(quiet_.sigma_dps);
   if (bias_from_startup_only_) models_.restart_noise_if_inflated(segment_.stats, segment_.blocks, segment_.duration_s);
   last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
@@ -779,6 +813,7 @@ void AutoEstimator::propagate(const Sample& sample, double dt_s) {
 
 HEADINGD_HOT void AutoEstimator::propagate_filters(const Sample& sample, double dt_s) {
   models_.track_vibration(sample.rate_dps, dt_s);
+  history_.integrate(filters_[2].bias_dps(), dt_s);
   // x and y: only the bias half. Their angles and the angles' covariances are never read (the
   // attitude carries roll and pitch), and the bias half does not depend on them.
   filters_[0].let_bias_drift(dt_s, walk_dps2_per_s_);
@@ -882,6 +917,7 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
       const double rate = chunk[k].rate_dps.z();
       const double dt_s = dts[k];
       SensorModels::step(vibration, rate, dt_s);
+      history_.integrate(z.bias_dps, dt_s);
       x_var += walk_dps2_per_s_ * dt_s;
       y_var += walk_dps2_per_s_ * dt_s;
       AxisFilter::propagate(z, scaled_z(rate, z.bias_dps, gain), dt_s, models_.white_z_dps2_s(vibration, dt_s),

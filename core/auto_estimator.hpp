@@ -13,11 +13,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "core/attitude_integrator.hpp"
 #include "core/auto_settings.hpp"
 #include "core/axis_filter.hpp"
+#include "core/bias_history.hpp"
 #include "core/bias_tracker.hpp"
 #include "core/estimate.hpp"
 #include "core/noise_density.hpp"
@@ -99,6 +101,7 @@ class AutoEstimator {
     Eigen::Quaterniond attitude_at_start = Eigen::Quaterniond::Identity();
     Vec3 temperature_shift_dps = Vec3::Zero();  // bias moved by the temperature model meanwhile
     Vec3 temperature_shift_var = Vec3::Zero();
+    BiasHistory::Mark history_at_start;
   };
 
   // The steps of update(), in order.
@@ -193,6 +196,7 @@ class AutoEstimator {
     Eigen::Quaterniond attitude_at_start = Eigen::Quaterniond::Identity();
     Vec3 sigma_dps = Vec3::Zero();                      // per-sample sigma of its latest segment
     double judged_before = 0.0, rejected_before = 0.0;  // verdict weights before it began
+    BiasHistory::Mark history_at_start;
     Vec3 mean_dps() const { return sum_dps_s / duration_s; }
   };
   // Whether the quiet run's level is a bias the sensor could have reached since its last stop
@@ -254,6 +258,10 @@ class AutoEstimator {
     return gain == 1.0 ? rate_dps : bias_dps + (rate_dps - bias_dps) * gain;
   }
   SensorModels models_;
+  BiasHistory history_;  // the z levels stops measured, for a restart that returns to one
+  // The heading correction of a restart that returned to an earlier level, until a stop after
+  // motion agrees with that level (a creep held for minutes can match an old level by chance).
+  std::optional<double> return_correction_deg_;
   AttitudeIntegrator attitude_;
   Segment segment_;
   Estimate estimate_;

@@ -1,0 +1,45 @@
+#include "core/bias_history.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace headingd::core {
+namespace {
+// Two measured points this close (in their combined sigma) are one level.
+constexpr double kSameLevelSigmas = 2.0;
+}  // namespace
+
+void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2) {
+  if (!std::isfinite(bias_dps) || !std::isfinite(variance_dps2)) return;
+  const Level level{.t_s = t_s, .bias_dps = bias_dps, .variance_dps2 = std::max(0.0, variance_dps2), .at = now_};
+  if (count_ > 0) {
+    Level& last = levels_[(next_ + kLevels - 1) % kLevels];
+    const double sd = std::sqrt(last.variance_dps2 + level.variance_dps2);
+    if (std::abs(last.bias_dps - bias_dps) <= kSameLevelSigmas * sd) {
+      last = level;
+      return;
+    }
+  }
+  levels_[next_] = level;
+  next_ = (next_ + 1) % kLevels;
+  count_ = std::min(count_ + 1, kLevels);
+}
+
+std::optional<double> BiasHistory::correction_for_return(double level_dps, double level_variance_dps2,
+                                                         double walk_dps2_per_s, double sigmas, const Mark& until,
+                                                         double until_t_s) const {
+  for (std::size_t i = 1; i <= count_; ++i) {
+    const Level& past = levels_[(next_ + kLevels - i) % kLevels];
+    if (past.t_s > until_t_s) continue;
+    const double since_s = until_t_s - past.t_s;
+    const double sd = std::sqrt(past.variance_dps2 + std::max(0.0, level_variance_dps2) + walk_dps2_per_s * since_s);
+    if (!(std::abs(past.bias_dps - level_dps) <= sigmas * sd)) continue;  // NaN: no match
+    // The heading took (rate - estimate); with the level it would have taken (rate - level).
+    const double integral_deg = until.bias_integral_deg - past.at.bias_integral_deg;
+    const double integrated_s = until.integrated_s - past.at.integrated_s;
+    return integral_deg - level_dps * integrated_s;
+  }
+  return std::nullopt;
+}
+
+}  // namespace headingd::core

@@ -1,0 +1,59 @@
+#pragma once
+// Where the z bias estimate has been, for a restart that returns to a level it left.
+//
+// A restart (a long quiet run under a bias that no stop agrees with) says the bias in force
+// was wrong, not since when. When the restarted level is one a stop had measured before, and
+// the estimate left it since (creeps taken for stops, a temperature model walking off, a
+// restart onto a creep), the likeliest story is that the bias never moved, and the heading
+// integrated since with the estimate's other values owes their difference from it. This
+// keeps the levels stops measured (the latest time at each) and the integral of the bias the
+// heading was integrated with, over the time it was integrated (still segments' share taken
+// back with their zero-rate update), so that difference is one subtraction.
+#include <array>
+#include <cstddef>
+#include <optional>
+
+namespace headingd::core {
+
+class BiasHistory {
+ public:
+  // A point on the integrated time: the integral of the bias in force, and that time.
+  struct Mark {
+    double bias_integral_deg = 0.0;
+    double integrated_s = 0.0;
+  };
+
+  // One propagated sample (inline: it runs on every sample).
+  void integrate(double bias_dps, double dt_s) {
+    now_.bias_integral_deg += bias_dps * dt_s;
+    now_.integrated_s += dt_s;
+  }
+  Mark mark() const { return now_; }
+  // A segment judged still: its zero-rate update takes its integration back.
+  void rewind(const Mark& to) { now_ = to; }
+
+  // A stop measured the bias: `bias_dps` with `variance_dps2` at `t_s`. Consecutive points at
+  // one level keep only the latest.
+  void measured(double t_s, double bias_dps, double variance_dps2);
+
+  // For a restart at `level_dps` (variance `level_variance_dps2`) whose quiet run began at
+  // `until`, time `until_t_s`: the heading correction (deg, to add) had the bias been that level
+  // since the latest measured point agreeing with it, within `sigmas` of their spread plus a
+  // bias walk of `walk_dps2_per_s` over the time between. None: no point agrees.
+  std::optional<double> correction_for_return(double level_dps, double level_variance_dps2, double walk_dps2_per_s,
+                                              double sigmas, const Mark& until, double until_t_s) const;
+
+ private:
+  struct Level {
+    double t_s = 0.0;
+    double bias_dps = 0.0;
+    double variance_dps2 = 0.0;
+    Mark at;
+  };
+  static constexpr std::size_t kLevels = 256;  // distinct levels kept, the oldest dropped
+  std::array<Level, kLevels> levels_{};
+  std::size_t count_ = 0, next_ = 0;
+  Mark now_;
+};
+
+}  // namespace headingd::core
