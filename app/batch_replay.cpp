@@ -84,6 +84,7 @@ Row replay_one(const std::string& input, const std::string& output, const BatchO
     if (d.bias_recoveries > 0) {
       std::string note = std::to_string(d.bias_recoveries) + " bias recoveries";
       if (d.recoveries_taken_back > 0) note += " (" + std::to_string(d.recoveries_taken_back) + " taken back)";
+      if (d.returns_mended > 0) note += " (" + std::to_string(d.returns_mended) + " back to an earlier level)";
       notes.push_back(note);
     }
     if (outcome.estimator_fault) notes.push_back("estimator fault");

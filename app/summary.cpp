@@ -29,6 +29,11 @@ void print_estimator(const core::Estimator& estimator) {
                    "  taken back   %llu of those restarts: a stop after them agreed with the level they replaced "
                    "(the quiet period was a slow turn)\n",
                    static_cast<unsigned long long>(d.recoveries_taken_back));
+    if (d.returns_mended > 0)
+      std::fprintf(stderr,
+                   "  returned     %llu restarts back to a level an earlier stop measured: the heading since that "
+                   "stop was corrected once a later stop agreed (last by %+.1f deg)\n",
+                   static_cast<unsigned long long>(d.returns_mended), d.last_return_correction_deg);
     if (d.refused_recoveries > 0)
       std::fprintf(stderr,
                    "  refused      %llu quiet periods steady at a level the confirmed bias could not have drifted "

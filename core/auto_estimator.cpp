@@ -424,6 +424,8 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
     AxisFilter::State z = filters_[2].state();
     z.angle_deg += *return_correction_deg_;
     filters_[2].restore(z);
+    last_return_correction_deg_ = *return_correction_deg_;
+    ++returns_mended_;
     return_correction_deg_.reset();
   }
   history_.rewind(segment_.history_at_start);

@@ -87,6 +87,10 @@ class AutoEstimator {
   // Recoveries taken back: a stop agreed with the level the recovery had replaced, and not with
   // its own (the quiet run was a creep after all).
   std::uint64_t recoveries_taken_back() const { return taken_back_; }
+  // Restarts that returned to a level a stop had measured before, whose heading correction a
+  // later stop after motion confirmed; and the last such correction, deg.
+  std::uint64_t returns_mended() const { return returns_mended_; }
+  double last_return_correction_deg() const { return last_return_correction_deg_; }
   double last_still_t_s() const { return last_still_t_s_; }
 
  private:
@@ -262,6 +266,8 @@ class AutoEstimator {
   // The heading correction of a restart that returned to an earlier level, until a stop after
   // motion agrees with that level (a creep held for minutes can match an old level by chance).
   std::optional<double> return_correction_deg_;
+  std::uint64_t returns_mended_ = 0;
+  double last_return_correction_deg_ = 0.0;
   AttitudeIntegrator attitude_;
   Segment segment_;
   Estimate estimate_;

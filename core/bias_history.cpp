@@ -28,18 +28,25 @@ void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2) {
 std::optional<double> BiasHistory::correction_for_return(double level_dps, double level_variance_dps2,
                                                          double walk_dps2_per_s, double sigmas, const Mark& until,
                                                          double until_t_s) const {
+  // The level that agrees best, in sigmas (a creep's level near another by chance agrees less).
+  const Level* best = nullptr;
+  double best_z = sigmas;
   for (std::size_t i = 1; i <= count_; ++i) {
     const Level& past = levels_[(next_ + kLevels - i) % kLevels];
     if (past.t_s > until_t_s) continue;
     const double since_s = until_t_s - past.t_s;
-    const double sd = std::sqrt(past.variance_dps2 + std::max(0.0, level_variance_dps2) + walk_dps2_per_s * since_s);
-    if (!(std::abs(past.bias_dps - level_dps) <= sigmas * sd)) continue;  // NaN: no match
-    // The heading took (rate - estimate); with the level it would have taken (rate - level).
-    const double integral_deg = until.bias_integral_deg - past.at.bias_integral_deg;
-    const double integrated_s = until.integrated_s - past.at.integrated_s;
-    return integral_deg - level_dps * integrated_s;
+    const double sd =
+        std::sqrt(past.variance_dps2 + std::max(0.0, level_variance_dps2) + walk_dps2_per_s * since_s);
+    const double z = std::abs(past.bias_dps - level_dps) / sd;
+    if (!(z <= best_z)) continue;  // NaN: no match
+    best_z = z;
+    best = &past;
   }
-  return std::nullopt;
+  if (best == nullptr) return std::nullopt;
+  // The heading took (rate - estimate); with the level it would have taken (rate - level).
+  const double integral_deg = until.bias_integral_deg - best->at.bias_integral_deg;
+  const double integrated_s = until.integrated_s - best->at.integrated_s;
+  return integral_deg - level_dps * integrated_s;
 }
 
 }  // namespace headingd::core

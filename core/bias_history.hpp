@@ -38,8 +38,9 @@ class BiasHistory {
 
   // For a restart at `level_dps` (variance `level_variance_dps2`) whose quiet run began at
   // `until`, time `until_t_s`: the heading correction (deg, to add) had the bias been that level
-  // since the latest measured point agreeing with it, within `sigmas` of their spread plus a
-  // bias walk of `walk_dps2_per_s` over the time between. None: no point agrees.
+  // since the measured level agreeing with it best, within `sigmas` of their spread plus a bias
+  // walk of `walk_dps2_per_s` over the time between (the nearest, not the latest: a creep's level
+  // passing near it by chance agrees less). None: no level agrees.
   std::optional<double> correction_for_return(double level_dps, double level_variance_dps2, double walk_dps2_per_s,
                                               double sigmas, const Mark& until, double until_t_s) const;
 

@@ -30,8 +30,12 @@ struct Diagnostics {
   std::uint64_t bias_recoveries = 0;        // auto: restarts from an unexplained quiet period
   std::uint64_t refused_recoveries = 0;     // auto: quiet periods at a level the bias could not reach
   std::uint64_t recoveries_taken_back = 0;  // auto: a later stop agreed with the level replaced
-  double segment_s = 0.0;                   // the configured segment length
-  Vec3 sigma_still_dps = Vec3::Zero();      // per-sample noise while still; zero until measured
+  // auto: restarts back to a level a stop had measured, whose heading correction a stop after
+  // motion confirmed, and the last such correction (deg; the heading jumped by it).
+  std::uint64_t returns_mended = 0;
+  double last_return_correction_deg = 0.0;
+  double segment_s = 0.0;               // the configured segment length
+  Vec3 sigma_still_dps = Vec3::Zero();  // per-sample noise while still; zero until measured
   // Angle random walk per axis; zero where the method does not learn it (the paper's A/B/C).
   Vec3 noise_density_dps_rt_hz = Vec3::Zero();
   double last_still_t_s = std::numeric_limits<double>::quiet_NaN();  // end of the last accepted segment

@@ -31,6 +31,16 @@ void ServiceSink::batch_done(const core::Estimator& estimator, const core::Sampl
     app::log(app::LogPriority::Notice, "bias-recovery", text);
   }
   taken_back_seen_ = diagnostics.recoveries_taken_back;
+  if (diagnostics.returns_mended > returns_mended_seen_) {
+    char text[300];
+    std::snprintf(text, sizeof text,
+                  "heading corrected by %+.1f deg: a bias restart had returned to a level an earlier stop measured, "
+                  "and a stop after motion agreed (the bias had not moved; slow turns taken for stops had moved "
+                  "the estimate); heading sigma now %.1f deg",
+                  diagnostics.last_return_correction_deg, last.heading_sigma_deg);
+    app::log(app::LogPriority::Notice, "bias-recovery", text);
+  }
+  returns_mended_seen_ = diagnostics.returns_mended;
   notifier_.ready();  // after the first good batch
   notifier_.sample_loop_alive();
   const auto now = std::chrono::steady_clock::now();

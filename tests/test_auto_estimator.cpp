@@ -467,6 +467,10 @@ TEST(AutoEstimator, ARestartBackToALevelAStopMeasuredMendsTheHeadingOnceAStopAft
   EXPECT_EQ(mended.estimator().automatic()->bias_recoveries(), 1u);
   EXPECT_LT(std::abs(mended.error()), 1.0);
   EXPECT_LT(std::abs(mended.error()), 2.0 * mended.estimator().last().heading_sigma_deg);
+  // The operator sees the jump and why (the service logs it, the replay summary counts it).
+  EXPECT_EQ(held.estimator().diagnostics().returns_mended, 0u);
+  EXPECT_EQ(mended.estimator().diagnostics().returns_mended, 1u);
+  EXPECT_NEAR(mended.estimator().diagnostics().last_return_correction_deg, held.error(), 1.0);
 }
 
 TEST(AutoEstimator, AnOutlierInsideAStopIsTakenForStill) {
