@@ -106,7 +106,8 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   commit_last_accepted();
   outlier_ = Outlier{};
   replaced_.pending = false;       // its angles predate the fix
-  return_correction_deg_.reset();  // and so does a correction held for a return
+  return_correction_deg_.reset();  // and so does a correction held for a return,
+  history_.forget();               // and every heading the history kept
   turned_from_deg_ = filters_[2].angle_deg();
   return filters_[2].angle_deg() - before_deg;
 }
@@ -244,7 +245,7 @@ SegmentVerdict AutoEstimator::close_startup() {
   }
   ++accepted_;
   last_still_t_s_ = segment_.start_t_s + duration_s;
-  history_.measured(last_still_t_s_, filters_[2].bias_dps(), filters_[2].bias_variance());
+  history_.measured(last_still_t_s_, filters_[2].bias_dps(), filters_[2].bias_variance(), filters_[2].angle_deg());
   bias_confirmed_ = false;
   motion_since_basis_ = false;
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
@@ -428,8 +429,7 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
     ++returns_mended_;
     return_correction_deg_.reset();
   }
-  history_.rewind(segment_.history_at_start);
-  history_.measured(end_t_s, filters_[2].bias_dps(), filters_[2].bias_variance());
+  history_.measured(end_t_s, filters_[2].bias_dps(), filters_[2].bias_variance(), filters_[2].angle_deg());
   // The attitude goes back to the segment's start, turned about the vertical by the heading
   // correction the bias measurement made to the time before.
   const double yaw_correction_deg = filters_[2].angle_deg() - segment_.filters_at_start[2].angle_deg;
@@ -644,9 +644,10 @@ void AutoEstimator::recover_bias() {
   const bool startup_corrected =
       bias_from_startup_only_ && std::abs(mean.z() - quiet_.filters_at_start[2].bias_dps) > kFastestCreepDps;
   const std::optional<double> returned_deg =
-      startup_corrected ? std::nullopt
-                        : history_.correction_for_return(mean.z(), r.z(), walk_dps2_per_s_, kReturnSigmas,
-                                                         quiet_.history_at_start, run_start_s);
+      startup_corrected
+          ? std::nullopt
+          : history_.correction_for_return(mean.z(), r.z(), walk_dps2_per_s_, kReturnSigmas, quiet_.history_at_start,
+                                           run_start_s, quiet_.filters_at_start[2].angle_deg);
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
     replaced_.as_kept[axis] = filters_[axis].state();
@@ -672,8 +673,7 @@ void AutoEstimator::recover_bias() {
     replaced_.as_restarted[axis] = filters_[axis].state();
   }
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * quiet_.attitude_at_start);
-  history_.rewind(quiet_.history_at_start);
-  history_.measured(replaced_.at_t_s, mean.z(), r.z());
+  history_.measured(replaced_.at_t_s, mean.z(), r.z(), filters_[2].angle_deg());
   return_correction_deg_ = returned_deg;
   models_.relearn_after_recovery(quiet_.sigma_dps);
   if (bias_from_startup_only_) models_.restart_noise_if_inflated(segment_.stats, segment_.blocks, segment_.duration_s);
@@ -782,6 +782,7 @@ HEADINGD_HOT bool AutoEstimator::segment_full(double t_s) const {
 
 void AutoEstimator::hold_during_startup(const Sample& sample, double dt_s) {
   add_to_segment(sample, dt_s);
+  history_.integrate(sample.rate_dps.z(), dt_s);  // a start-up found moving is integrated again
   previous_temp_c_ = sample.temp_c;
   fill_estimate(sample);
 }
@@ -815,7 +816,7 @@ void AutoEstimator::propagate(const Sample& sample, double dt_s) {
 
 HEADINGD_HOT void AutoEstimator::propagate_filters(const Sample& sample, double dt_s) {
   models_.track_vibration(sample.rate_dps, dt_s);
-  history_.integrate(filters_[2].bias_dps(), dt_s);
+  history_.integrate(sample.rate_dps.z(), dt_s);
   // x and y: only the bias half. Their angles and the angles' covariances are never read (the
   // attitude carries roll and pitch), and the bias half does not depend on them.
   filters_[0].let_bias_drift(dt_s, walk_dps2_per_s_);
@@ -919,7 +920,7 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
       const double rate = chunk[k].rate_dps.z();
       const double dt_s = dts[k];
       SensorModels::step(vibration, rate, dt_s);
-      history_.integrate(z.bias_dps, dt_s);
+      history_.integrate(rate, dt_s);
       x_var += walk_dps2_per_s_ * dt_s;
       y_var += walk_dps2_per_s_ * dt_s;
       AxisFilter::propagate(z, scaled_z(rate, z.bias_dps, gain), dt_s, models_.white_z_dps2_s(vibration, dt_s),

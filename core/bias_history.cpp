@@ -9,9 +9,13 @@ namespace {
 constexpr double kSameLevelSigmas = 2.0;
 }  // namespace
 
-void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2) {
-  if (!std::isfinite(bias_dps) || !std::isfinite(variance_dps2)) return;
-  const Level level{.t_s = t_s, .bias_dps = bias_dps, .variance_dps2 = std::max(0.0, variance_dps2), .at = now_};
+void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2, double heading_deg) {
+  if (!std::isfinite(bias_dps) || !std::isfinite(variance_dps2) || !std::isfinite(heading_deg)) return;
+  const Level level{.t_s = t_s,
+                    .bias_dps = bias_dps,
+                    .variance_dps2 = std::max(0.0, variance_dps2),
+                    .heading_deg = heading_deg,
+                    .at = now_};
   if (count_ > 0) {
     Level& last = levels_[(next_ + kLevels - 1) % kLevels];
     const double sd = std::sqrt(last.variance_dps2 + level.variance_dps2);
@@ -27,26 +31,25 @@ void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2) {
 
 std::optional<double> BiasHistory::correction_for_return(double level_dps, double level_variance_dps2,
                                                          double walk_dps2_per_s, double sigmas, const Mark& until,
-                                                         double until_t_s) const {
-  // The level that agrees best, in sigmas (a creep's level near another by chance agrees less).
+                                                         double until_t_s, double until_heading_deg) const {
+  // The level that agrees best, in sigmas.
   const Level* best = nullptr;
   double best_z = sigmas;
   for (std::size_t i = 1; i <= count_; ++i) {
     const Level& past = levels_[(next_ + kLevels - i) % kLevels];
     if (past.t_s > until_t_s) continue;
     const double since_s = until_t_s - past.t_s;
-    const double sd =
-        std::sqrt(past.variance_dps2 + std::max(0.0, level_variance_dps2) + walk_dps2_per_s * since_s);
+    const double sd = std::sqrt(past.variance_dps2 + std::max(0.0, level_variance_dps2) + walk_dps2_per_s * since_s);
     const double z = std::abs(past.bias_dps - level_dps) / sd;
     if (!(z <= best_z)) continue;  // NaN: no match
     best_z = z;
     best = &past;
   }
-  if (best == nullptr) return std::nullopt;
-  // The heading took (rate - estimate); with the level it would have taken (rate - level).
-  const double integral_deg = until.bias_integral_deg - best->at.bias_integral_deg;
-  const double integrated_s = until.integrated_s - best->at.integrated_s;
-  return integral_deg - level_dps * integrated_s;
+  if (best == nullptr || !std::isfinite(until_heading_deg)) return std::nullopt;
+  // The turn since, had the bias been the level all along, against the turn the heading made.
+  const double turned_deg =
+      (until.rate_integral_deg - best->at.rate_integral_deg) - level_dps * (until.integrated_s - best->at.integrated_s);
+  return turned_deg - (until_heading_deg - best->heading_deg);
 }
 
 }  // namespace headingd::core

@@ -4,11 +4,11 @@
 // A restart (a long quiet run under a bias that no stop agrees with) says the bias in force
 // was wrong, not since when. When the restarted level is one a stop had measured before, and
 // the estimate left it since (creeps taken for stops, a temperature model walking off, a
-// restart onto a creep), the likeliest story is that the bias never moved, and the heading
-// integrated since with the estimate's other values owes their difference from it. This
-// keeps the levels stops measured (the latest time at each) and the integral of the bias the
-// heading was integrated with, over the time it was integrated (still segments' share taken
-// back with their zero-rate update), so that difference is one subtraction.
+// restart onto a creep's level), the likeliest story is that the bias never moved. Then the
+// heading since that stop is the raw z rate less that level, integrated over all of it — the
+// creeps taken for stops were motion, the stops still — and the estimate owes the difference.
+// This keeps the levels stops measured (the latest time at each) with the raw rate's integral
+// and the heading at that moment, so that difference is a few subtractions.
 #include <array>
 #include <cstddef>
 #include <optional>
@@ -17,38 +17,40 @@ namespace headingd::core {
 
 class BiasHistory {
  public:
-  // A point on the integrated time: the integral of the bias in force, and that time.
+  // A moment: the integral of the raw z rate so far, and the time it covers.
   struct Mark {
-    double bias_integral_deg = 0.0;
+    double rate_integral_deg = 0.0;
     double integrated_s = 0.0;
   };
 
-  // One propagated sample (inline: it runs on every sample).
-  void integrate(double bias_dps, double dt_s) {
-    now_.bias_integral_deg += bias_dps * dt_s;
+  // One sample (inline: it runs on every sample).
+  void integrate(double rate_dps, double dt_s) {
+    now_.rate_integral_deg += rate_dps * dt_s;
     now_.integrated_s += dt_s;
   }
   Mark mark() const { return now_; }
-  // A segment judged still: its zero-rate update takes its integration back.
-  void rewind(const Mark& to) { now_ = to; }
 
-  // A stop measured the bias: `bias_dps` with `variance_dps2` at `t_s`. Consecutive points at
-  // one level keep only the latest.
-  void measured(double t_s, double bias_dps, double variance_dps2);
+  // A stop measured the bias: `bias_dps` with `variance_dps2` at `t_s`, the heading then
+  // `heading_deg`. Consecutive points at one level keep only the latest.
+  void measured(double t_s, double bias_dps, double variance_dps2, double heading_deg);
+  // A heading fix: the headings kept no longer compare with the ones to come.
+  void forget() { count_ = next_ = 0; }
 
   // For a restart at `level_dps` (variance `level_variance_dps2`) whose quiet run began at
-  // `until`, time `until_t_s`: the heading correction (deg, to add) had the bias been that level
-  // since the measured level agreeing with it best, within `sigmas` of their spread plus a bias
-  // walk of `walk_dps2_per_s` over the time between (the nearest, not the latest: a creep's level
-  // passing near it by chance agrees less). None: no level agrees.
+  // `until`, time `until_t_s`, heading `until_heading_deg`: the heading correction (deg, to add)
+  // had the bias been that level since the measured level agreeing with it best, within `sigmas`
+  // of their spread plus a bias walk of `walk_dps2_per_s` over the time between (the nearest, not
+  // the latest: a creep's level passing near it by chance agrees less). None: no level agrees.
   std::optional<double> correction_for_return(double level_dps, double level_variance_dps2, double walk_dps2_per_s,
-                                              double sigmas, const Mark& until, double until_t_s) const;
+                                              double sigmas, const Mark& until, double until_t_s,
+                                              double until_heading_deg) const;
 
  private:
   struct Level {
     double t_s = 0.0;
     double bias_dps = 0.0;
     double variance_dps2 = 0.0;
+    double heading_deg = 0.0;
     Mark at;
   };
   static constexpr std::size_t kLevels = 256;  // distinct levels kept, the oldest dropped

@@ -156,49 +156,55 @@ TEST(NoiseDensity, BlockMeansRecoverWhiteNoiseDensityThroughALowPass) {
   EXPECT_NEAR(std::sqrt(pooled.density_squared().z()), density, 0.05 * density);
 }
 
-TEST(BiasHistory, AReturnToAnEarlierLevelOwesTheHeadingTheDifferenceSinceThatLevel) {
+TEST(BiasHistory, AReturnToAnEarlierLevelOwesTheHeadingTheRawTurnLessThatLevelSinceIt) {
+  // The bias is 0.50 throughout. A stop measures it (heading 0); then 100 s of a 1 dps turn and
+  // 60 s of a 0.05 dps creep that the estimate took for a stop at 0.55 (heading held), then 200 s
+  // of a 1 dps turn integrated with 0.55: the heading says 100 + 0 + 200 x 0.95 = 290 deg, the
+  // truth 100 + 3 + 200 = 303 deg.
   BiasHistory history;
-  history.measured(10.0, 0.50, 1e-6);  // a stop measured 0.50
-  // 100 s integrated with 0.50, then 200 s with 0.45 (a creep taken for a stop moved it).
-  for (int i = 0; i < 100; ++i) history.integrate(0.50, 1.0);
-  history.measured(120.0, 0.45, 1e-6);
-  const BiasHistory::Mark before_stop = history.mark();
-  for (int i = 0; i < 30; ++i) history.integrate(0.45, 0.1);
-  history.rewind(before_stop);  // that stop's 3 s: a zero-rate update took their integration back
-  for (int i = 0; i < 200; ++i) history.integrate(0.45, 1.0);
-  const BiasHistory::Mark run = history.mark();
-  // Back at 0.50: the 200 s at 0.45 owe (0.45 - 0.50) x 200 = -10 deg; the 100 s at 0.50 nothing.
-  const auto back = history.correction_for_return(0.50, 1e-6, 0.0, 3.0, run, 330.0);
+  history.measured(10.0, 0.50, 1e-6, 0.0);
+  for (int i = 0; i < 100; ++i) history.integrate(1.50, 1.0);
+  for (int i = 0; i < 60; ++i) history.integrate(0.55, 1.0);
+  history.measured(170.0, 0.55, 1e-6, 100.0);
+  for (int i = 0; i < 200; ++i) history.integrate(1.50, 1.0);
+  const BiasHistory::Mark run = history.mark();  // a stop at 0.50 restarts the bias
+  const auto back = history.correction_for_return(0.50, 1e-6, 0.0, 3.0, run, 370.0, 290.0);
   ASSERT_TRUE(back.has_value());
-  EXPECT_NEAR(*back, -10.0, 1e-9);
-  // At the latest level itself: nothing owed.
-  const auto same = history.correction_for_return(0.45, 1e-6, 0.0, 3.0, run, 330.0);
+  EXPECT_NEAR(*back, 13.0, 1e-9);
+  // Back at the latest level: the turn since it, with that level, is the heading's own.
+  const auto same = history.correction_for_return(0.55, 1e-6, 0.0, 3.0, run, 370.0, 290.0);
   ASSERT_TRUE(same.has_value());
   EXPECT_NEAR(*same, 0.0, 1e-9);
   // A level no stop measured: no story to tell.
-  EXPECT_FALSE(history.correction_for_return(0.40, 1e-6, 0.0, 3.0, run, 330.0).has_value());
-  // The bias walk widens the match with the time since (0.47 is 0.03 from 0.50 and 0.45: 3 sigma
-  // of 0.01 needs a walk of 1e-4 dps^2 over the ~300 s since 0.50, 1e-4 / 300 per s).
-  EXPECT_FALSE(history.correction_for_return(0.47, 0.0, 0.0, 3.0, run, 330.0).has_value());
-  EXPECT_TRUE(history.correction_for_return(0.475, 0.0, 1e-4 / 300.0, 3.0, run, 330.0).has_value());
+  EXPECT_FALSE(history.correction_for_return(0.40, 1e-6, 0.0, 3.0, run, 370.0, 290.0).has_value());
+  // The bias walk widens the match with the time since: 0.475 is 0.025 from 0.50 and 0.55; a walk
+  // of 1e-4 dps^2 over the ~360 s since 0.50 puts it within 3 sigma of that one only.
+  EXPECT_FALSE(history.correction_for_return(0.475, 0.0, 0.0, 3.0, run, 370.0, 290.0).has_value());
+  const auto walked = history.correction_for_return(0.475, 0.0, 1e-4 / 360.0, 3.0, run, 370.0, 290.0);
+  ASSERT_TRUE(walked.has_value());
+  EXPECT_NEAR(*walked, 13.0 + 0.025 * 360.0, 1e-9);
+  // After a heading fix the headings kept compare with nothing.
+  history.forget();
+  EXPECT_FALSE(history.correction_for_return(0.50, 1e-6, 0.0, 3.0, run, 370.0, 290.0).has_value());
 }
 
 TEST(BiasHistory, StopsAtOneLevelKeepOnlyTheLatestAndTheOldestLevelsGo) {
   BiasHistory history;
-  history.measured(0.0, 0.50, 1e-6);
+  history.measured(0.0, 0.50, 1e-6, 0.0);
   for (int i = 0; i < 100; ++i) history.integrate(0.60, 1.0);
-  history.measured(100.0, 0.5001, 1e-6);  // the same level again, later: the correction counts from here
+  history.measured(100.0, 0.5001, 1e-6, 5.0);  // the same level again, later: the correction counts from here
   for (int i = 0; i < 50; ++i) history.integrate(0.60, 1.0);
-  const auto back = history.correction_for_return(0.50, 1e-6, 0.0, 3.0, history.mark(), 150.0);
+  const auto back = history.correction_for_return(0.50, 1e-6, 0.0, 3.0, history.mark(), 150.0, 5.0);
   ASSERT_TRUE(back.has_value());
   EXPECT_NEAR(*back, (0.60 - 0.50) * 50.0, 1e-9);
   // Hundreds of distinct levels later the first is gone; the bounded memory never allocates.
-  for (int i = 1; i <= 300; ++i) history.measured(150.0 + i, 0.50 + 0.01 * i, 1e-8);
-  EXPECT_FALSE(history.correction_for_return(0.50, 1e-8, 0.0, 3.0, history.mark(), 500.0).has_value());
-  EXPECT_TRUE(history.correction_for_return(3.50, 1e-8, 0.0, 3.0, history.mark(), 500.0).has_value());
+  for (int i = 1; i <= 300; ++i) history.measured(150.0 + i, 0.50 + 0.01 * i, 1e-8, 5.0);
+  EXPECT_FALSE(history.correction_for_return(0.50, 1e-8, 0.0, 3.0, history.mark(), 500.0, 5.0).has_value());
+  EXPECT_TRUE(history.correction_for_return(3.50, 1e-8, 0.0, 3.0, history.mark(), 500.0, 5.0).has_value());
   // Non-finite input is no level.
-  history.measured(600.0, std::numeric_limits<double>::quiet_NaN(), 1e-8);
+  history.measured(600.0, std::numeric_limits<double>::quiet_NaN(), 1e-8, 5.0);
   EXPECT_FALSE(
-      history.correction_for_return(std::numeric_limits<double>::quiet_NaN(), 1e-8, 0.0, 3.0, history.mark(), 700.0)
+      history
+          .correction_for_return(std::numeric_limits<double>::quiet_NaN(), 1e-8, 0.0, 3.0, history.mark(), 700.0, 5.0)
           .has_value());
 }
