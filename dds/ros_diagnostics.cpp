@@ -97,6 +97,16 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
   conflicts_seen_ = d.hint_conflicts;
   if (e.t_s - last_conflict_t_s_ <= kRecentS)
     raise(entry, DiagnosticLevel::Warn, "the vehicle says stopped but the gyro turns: the gyro wins");
+  if (d.bias_recoveries > restarts_seen_) last_restart_t_s_ = e.t_s;
+  restarts_seen_ = d.bias_recoveries;
+  if (e.t_s - last_restart_t_s_ <= kRecentS)
+    raise(entry, DiagnosticLevel::Warn, "the bias restarted from a quiet period it could not explain");
+  if (d.returns_mended > returns_seen_) last_return_t_s_ = e.t_s;
+  returns_seen_ = d.returns_mended;
+  if (e.t_s - last_return_t_s_ <= kRecentS)
+    raise(entry, DiagnosticLevel::Warn,
+          "heading corrected by " + number(d.last_return_correction_deg) +
+              " deg: a bias restart had returned to a level an earlier stop measured");
   std::string model;
   for (std::size_t a = 0; a < 3; ++a) model += std::string(a ? " " : "") + (d.temperature[a].ready ? "on" : "off");
   entry.values = {{"method", std::string(core::method_name(d.method))},
@@ -109,6 +119,10 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
                   {"last_still_age_s", number(still_age_s)},
                   {"accepted_segments", std::to_string(d.accepted_segments)},
                   {"rejected_segments", std::to_string(d.rejected_segments)},
+                  {"bias_restarts", std::to_string(d.bias_recoveries)},
+                  {"bias_restarts_taken_back", std::to_string(d.recoveries_taken_back)},
+                  {"bias_restarts_refused", std::to_string(d.refused_recoveries)},
+                  {"returns_mended", std::to_string(d.returns_mended)},
                   {"temperature_model", model},
                   {"motion_hint", hint_name(d.motion_hint)},
                   {"hint_conflicts", std::to_string(d.hint_conflicts)},

@@ -54,6 +54,10 @@ class DiagnosticsBuilder {
   double last_fault_t_s_ = -1e300;
   std::uint64_t conflicts_seen_ = 0;
   double last_conflict_t_s_ = -1e300;
+  // Bias restarts and returns mended: each moves the heading by up to tens of degrees at once,
+  // which a consumer filtering the heading must hear about (WARN for kRecentS).
+  std::uint64_t restarts_seen_ = 0, returns_seen_ = 0;
+  double last_restart_t_s_ = -1e300, last_return_t_s_ = -1e300;
 };
 
 }  // namespace headingd::app

@@ -214,6 +214,32 @@ TEST(RosDiagnostics, LevelsFollowFaultsAndSigma) {
   learned.scale_z_sigma = 0.002;
   entries = builder.build(e, learned, report, {});
   EXPECT_TRUE(has_key(entries[1], "scale_z") && has_key(entries[1], "scale_z_sigma"));
+  for (const char* key : {"bias_restarts", "bias_restarts_taken_back", "bias_restarts_refused", "returns_mended"})
+    EXPECT_TRUE(has_key(entries[1], key)) << key;
+}
+
+TEST(RosDiagnostics, ABiasRestartAndAHeadingCorrectionWarnForTenSeconds) {
+  app::DiagnosticsBuilder builder{RosSettings{}};
+  app::StatusReport report;
+  report.state = app::SensorState::Ok;
+  core::Estimate e = running_estimate();
+  core::Diagnostics d = running_diagnostics();
+  EXPECT_EQ(builder.build(e, d, report, {})[1].level, app::DiagnosticLevel::Ok);
+  d.bias_recoveries = 1;
+  e.t_s = 101.0;
+  auto entries = builder.build(e, d, report, {});
+  EXPECT_EQ(entries[1].level, app::DiagnosticLevel::Warn);
+  EXPECT_NE(entries[1].message.find("bias restarted"), std::string::npos) << entries[1].message;
+  e.t_s = 112.0;
+  EXPECT_EQ(builder.build(e, d, report, {})[1].level, app::DiagnosticLevel::Ok);
+  d.returns_mended = 1;
+  d.last_return_correction_deg = -42.6;
+  e.t_s = 200.0;
+  entries = builder.build(e, d, report, {});
+  EXPECT_EQ(entries[1].level, app::DiagnosticLevel::Warn);
+  EXPECT_NE(entries[1].message.find("heading corrected by -42.6 deg"), std::string::npos) << entries[1].message;
+  e.t_s = 211.0;
+  EXPECT_EQ(builder.build(e, d, report, {})[1].level, app::DiagnosticLevel::Ok);
 }
 
 TEST(RosConfig, ReadsTheRosTablesAndRefusesBadNames) {
