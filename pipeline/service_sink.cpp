@@ -7,13 +7,20 @@
 namespace headingd::pipeline {
 namespace {
 constexpr auto kStatusEvery = std::chrono::seconds(10);
+
+// Whether a counter rose since last seen (then it is seen): each event is logged once.
+bool rose(std::uint64_t count, std::uint64_t& seen) {
+  const bool risen = count > seen;
+  seen = count;
+  return risen;
+}
 }  // namespace
 
 void ServiceSink::batch_done(const core::Estimator& estimator, const core::SampleSource& source) {
   const core::Estimate& last = estimator.last();
   const core::Diagnostics diagnostics = estimator.diagnostics();
-  if (diagnostics.bias_recoveries > recoveries_seen_) {
-    char text[300];
+  char text[300];
+  if (rose(diagnostics.bias_recoveries, recoveries_seen_)) {
     std::snprintf(text, sizeof text,
                   "the bias restarted from a long quiet period it could not explain (a start-up while turning, or "
                   "a wrong saved bias): heading sigma now %.1f deg; a heading fix (HeadingCommand set-heading) "
@@ -21,18 +28,14 @@ void ServiceSink::batch_done(const core::Estimator& estimator, const core::Sampl
                   last.heading_sigma_deg);
     app::log(app::LogPriority::Warning, "bias-recovery", text);
   }
-  recoveries_seen_ = diagnostics.bias_recoveries;
-  if (diagnostics.recoveries_taken_back > taken_back_seen_) {
-    char text[200];
+  if (rose(diagnostics.recoveries_taken_back, taken_back_seen_)) {
     std::snprintf(text, sizeof text,
                   "the bias restart was taken back: a stop agreed with the level before it (the quiet period was "
                   "a slow turn); heading sigma now %.1f deg",
                   last.heading_sigma_deg);
     app::log(app::LogPriority::Notice, "bias-recovery", text);
   }
-  taken_back_seen_ = diagnostics.recoveries_taken_back;
-  if (diagnostics.returns_mended > returns_mended_seen_) {
-    char text[300];
+  if (rose(diagnostics.returns_mended, returns_mended_seen_)) {
     std::snprintf(text, sizeof text,
                   "heading corrected by %+.1f deg: a bias restart had returned to a level an earlier stop measured, "
                   "and a stop after motion agreed (the bias had not moved; slow turns taken for stops had moved "
@@ -40,14 +43,12 @@ void ServiceSink::batch_done(const core::Estimator& estimator, const core::Sampl
                   diagnostics.last_return_correction_deg, last.heading_sigma_deg);
     app::log(app::LogPriority::Notice, "bias-recovery", text);
   }
-  returns_mended_seen_ = diagnostics.returns_mended;
   notifier_.ready();  // after the first good batch
   notifier_.sample_loop_alive();
   const auto now = std::chrono::steady_clock::now();
   if (now - last_status_ < kStatusEvery) return;
   last_status_ = now;
   const core::SourceHealth health = source.health();
-  char text[200];
   std::snprintf(text, sizeof text, "heading %.2f deg (sigma %.2f), bias z %+.4f dps, %llu samples, %llu bus errors",
                 last.heading_deg, last.heading_sigma_deg, last.bias_dps.z(),
                 static_cast<unsigned long long>(health.samples), static_cast<unsigned long long>(health.bus_errors));

@@ -1,7 +1,8 @@
 #pragma once
 // Tells systemd and the journal how the run goes: READY=1 after the first batch, WATCHDOG=1
 // from the loop, a STATUS= line every 10 s, a warning when the bias restarts from an
-// unexplained quiet period, and STOPPING=1 at the end, whatever ended the run.
+// unexplained quiet period (a notice when a restart is taken back or mends the heading), and
+// STOPPING=1 at the end, whatever ended the run.
 #include <chrono>
 #include <cstdint>
 
