@@ -15,6 +15,7 @@ namespace headingd::core {
 
 struct TemperatureModelState {
   bool ready = false;            // the slope is in use
+  bool set_aside = false;        // learned, but its held-out predictions lost to no change
   double slope_dps_per_c = 0.0;  // at 25 degC
   double weighted_span_c = 0.0;  // spread of the points it rests on
   std::uint32_t points = 0;      // accepted segments it has seen

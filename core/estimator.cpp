@@ -178,7 +178,8 @@ Diagnostics Estimator::diagnostics() const {
     d.hint_conflicts = a->hint_conflicts();
     for (int axis = 0; axis < 3; ++axis) {
       const TemperatureModel& model = a->temperature_model(axis);
-      d.temperature[static_cast<std::size_t>(axis)] = {model.ready(), model.slope_dps_per_c(25.0),
+      const bool in_use = a->temperature_model_in_use(axis);
+      d.temperature[static_cast<std::size_t>(axis)] = {in_use, model.ready() && !in_use, model.slope_dps_per_c(25.0),
                                                        model.weighted_span_c(), model.points()};
     }
   }
