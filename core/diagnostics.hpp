@@ -62,6 +62,7 @@ struct LearnedState {
   Vec3 arw_dps_rt_hz = Vec3::Zero();    // zero when unknown
   std::array<TemperatureModel::Sums, 3> temperature_sums{};
   std::array<std::uint32_t, 3> temperature_points{};
+  std::array<TemperatureScoreSums, 3> temperature_scores{};  // zero: none kept (files before it)
   // The heading when saved and its variance (NaN: none kept), and the fix offset then, so the
   // heading and the continuous yaw go on across a restart.
   double heading_deg = std::numeric_limits<double>::quiet_NaN();

@@ -73,16 +73,23 @@ void SensorModels::score_temperature_point(std::size_t axis, double t_s, double 
     const double fade = std::exp2(-std::max(0.0, t_s - score.last_t_s) / settings_.temperature.half_life_s);
     const double seen = mean_dps - score.last_mean_dps;
     const double predicted = model.predict_dps(temp_c) - model.predict_dps(score.last_temp_c);
-    score.seen_times_predicted = fade * score.seen_times_predicted + seen * predicted;
-    score.predicted_sq = fade * score.predicted_sq + predicted * predicted;
-    score.predicted_sq_noise =
-        fade * score.predicted_sq_noise + predicted * predicted * (variance + score.last_variance);
+    TemperatureScoreSums& sums = score.sums;
+    sums.seen_times_predicted = fade * sums.seen_times_predicted + seen * predicted;
+    sums.predicted_sq = fade * sums.predicted_sq + predicted * predicted;
+    sums.predicted_sq_noise = fade * sums.predicted_sq_noise + predicted * predicted * (variance + score.last_variance);
     score.set_aside = score.margin() < -kTemperatureLosingMargin;
   }
   score.last_t_s = t_s;
   score.last_temp_c = temp_c;
   score.last_mean_dps = mean_dps;
   score.last_variance = variance;
+}
+
+void SensorModels::restore_temperature_score(int axis, const TemperatureScoreSums& sums) {
+  TemperatureScore& score = temperature_score_[static_cast<std::size_t>(axis)];
+  score = TemperatureScore{};  // the points before the restart are not this run's to difference
+  score.sums = sums;
+  score.set_aside = score.margin() < -kTemperatureLosingMargin;
 }
 
 void SensorModels::restore_noise(const Vec3& sigma_still_dps, const Vec3& arw_dps_rt_hz) {

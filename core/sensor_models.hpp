@@ -109,6 +109,11 @@ class SensorModels {
   void restore_temperature_model(int axis, const TemperatureModel::Sums& sums, std::uint32_t points) {
     temperature_[static_cast<std::size_t>(axis)].restore(sums, points);
   }
+  // The score that sets a model aside, saved and restored with it.
+  const TemperatureScoreSums& temperature_score(int axis) const {
+    return temperature_score_[static_cast<std::size_t>(axis)].sums;
+  }
+  void restore_temperature_score(int axis, const TemperatureScoreSums& sums);
 
   const Vec3& sigma_still_dps() const { return sigma_still_dps_; }
   const Vec3& white_dps2_s() const { return white_dps2_s_; }  // N^2 per axis
@@ -134,14 +139,13 @@ class SensorModels {
     double last_temp_c = 0.0;
     double last_mean_dps = 0.0;
     double last_variance = 0.0;
-    double seen_times_predicted = 0.0;
-    double predicted_sq = 0.0;
-    double predicted_sq_noise = 0.0;
+    TemperatureScoreSums sums;
     bool set_aside = false;  // margin() below -kTemperatureLosingMargin, kept for the hot path
     // In standard errors: how far the model's predictions have beaten no change (negative: lost).
     double margin() const {
-      return predicted_sq_noise > 0.0 ? (seen_times_predicted - 0.5 * predicted_sq) / std::sqrt(predicted_sq_noise)
-                                      : 0.0;
+      return sums.predicted_sq_noise > 0.0
+                 ? (sums.seen_times_predicted - 0.5 * sums.predicted_sq) / std::sqrt(sums.predicted_sq_noise)
+                 : 0.0;
     }
   };
   std::array<TemperatureScore, 3> temperature_score_{};

@@ -178,6 +178,13 @@ TEST(SensorModels, ATemperatureModelTheNextStopsDoNotFollowIsSetAsideAndOneTheyF
   EXPECT_NEAR(flat.temperature_slope_variance(2, 23.0), 0.003 * 0.003 + slope * slope, 1e-12);
   // And it stays aside while the stops keep showing no change, though it learns from them.
   EXPECT_FALSE(models_after_warm_up(0.0, 40).temperature_in_use(2));
+  // A restart keeps it aside: the score is saved with the model.
+  SensorModels restarted(kDefaultBiasSettings, AutoSettings{});
+  const TemperatureModel& model = flat.temperature_model(2);
+  restarted.restore_temperature_model(2, model.sums(), model.points());
+  EXPECT_TRUE(restarted.temperature_in_use(2)) << "a model restored without its score starts in use";
+  restarted.restore_temperature_score(2, flat.temperature_score(2));
+  EXPECT_FALSE(restarted.temperature_in_use(2));
 
   // Stops that follow the slope keep the model in use, and its uncertainty is its own.
   const SensorModels following = models_after_warm_up(0.01, 40);
