@@ -43,11 +43,6 @@ void print_estimator(const core::Estimator& estimator) {
     if (model.ready) {
       std::fprintf(stderr, "  temperature  z bias slope %+.5f dps/C over a %.1f C span (%u segments)\n",
                    model.slope_dps_per_c, model.weighted_span_c, model.points);
-    } else if (model.set_aside) {
-      std::fprintf(stderr,
-                   "  temperature  z model set aside: it predicted the stops' bias worse than no change (slope "
-                   "%+.5f dps/C, %.1f C span, %u segments)\n",
-                   model.slope_dps_per_c, model.weighted_span_c, model.points);
     } else {
       std::fprintf(stderr, "  temperature  model not in use yet (span %.1f C, %u segments)\n", model.weighted_span_c,
                    model.points);

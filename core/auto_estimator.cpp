@@ -551,10 +551,9 @@ bool AutoEstimator::quiet_run_bias_plausible() const {
     const double walk_sd = std::sqrt(filters_[axis].bias_variance() + walk_dps2_per_s_ * since_s);
     // The filter's bias already follows the temperature model where it is in use: what remains
     // is the model's own slope uncertainty and misfit; without it, the datasheet's bound.
-    const double per_c = models_.temperature_in_use(static_cast<int>(axis))
-                             ? kPlausibleSigmas * std::sqrt(models_.temperature_slope_variance(static_cast<int>(axis),
-                                                                                               previous_temp_c_)) +
-                                   kModelMisfitDpsPerC
+    const TemperatureModel& model = models_.temperature_model(static_cast<int>(axis));
+    const double per_c = model.ready() && settings_.use_temperature
+                             ? kPlausibleSigmas * std::sqrt(model.slope_variance()) + kModelMisfitDpsPerC
                              : kZeroRateChangeDpsPerC;
     const double bound = kPlausibleSigmas * walk_sd + per_c * temp_change_c + kPlausibleFloorDps;
     if (std::abs(mean[a] - filters_[axis].bias_dps()) > bound) return false;
@@ -694,9 +693,9 @@ void AutoEstimator::recover_bias() {
 HEADINGD_HOT void AutoEstimator::follow_temperature(double temp_c, double t_s) {
   if (!models_.follows_temperature(temp_c, previous_temp_c_)) return;
   for (int axis = 0; axis < 3; ++axis) {
-    double shift = 0.0;
-    models_.temperature_shift(axis, temp_c, previous_temp_c_, shift);
-    const double slope_variance = models_.temperature_slope_variance(axis, temp_c);
+    double shift = 0.0, slope_variance = 0.0;
+    const bool modelled = models_.temperature_shift(axis, temp_c, previous_temp_c_, shift, slope_variance);
+    if (!modelled) slope_variance = settings_.unmodelled_bias_per_c_dps * settings_.unmodelled_bias_per_c_dps;
     // The slope's error k is one number, not a new draw per step: since the bias was measured
     // at T0 its error has been k (T - T0) and the angle's -k times the integral of (T - T0)
     // dt, a rank-one covariance that grows with the temperature's change. Propagation makes

@@ -72,11 +72,6 @@ class AutoEstimator {
   const Vec3& sigma_still_dps() const { return models_.sigma_still_dps(); }
   Vec3 noise_density_dps_rt_hz() const { return models_.noise_density_dps_rt_hz(); }
   const TemperatureModel& temperature_model(int axis) const { return models_.temperature_model(axis); }
-  bool temperature_model_in_use(int axis) const { return models_.temperature_in_use(axis); }
-  const TemperatureScoreSums& temperature_score(int axis) const { return models_.temperature_score(axis); }
-  void restore_temperature_score(int axis, const TemperatureScoreSums& sums) {
-    models_.restore_temperature_score(axis, sums);
-  }
   std::uint64_t accepted_segments() const { return accepted_; }
   std::uint64_t rejected_segments() const { return rejected_; }  // long enough, failed the mean test
   std::uint64_t cut_segments() const { return cut_; }            // cut by motion before min_segment_s

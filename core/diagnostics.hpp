@@ -15,7 +15,6 @@ namespace headingd::core {
 
 struct TemperatureModelState {
   bool ready = false;            // the slope is in use
-  bool set_aside = false;        // learned, but its held-out predictions lost to no change
   double slope_dps_per_c = 0.0;  // at 25 degC
   double weighted_span_c = 0.0;  // spread of the points it rests on
   std::uint32_t points = 0;      // accepted segments it has seen
@@ -62,7 +61,6 @@ struct LearnedState {
   Vec3 arw_dps_rt_hz = Vec3::Zero();    // zero when unknown
   std::array<TemperatureModel::Sums, 3> temperature_sums{};
   std::array<std::uint32_t, 3> temperature_points{};
-  std::array<TemperatureScoreSums, 3> temperature_scores{};  // zero: none kept (files before it)
   // The heading when saved and its variance (NaN: none kept), and the fix offset then, so the
   // heading and the continuous yaw go on across a restart.
   double heading_deg = std::numeric_limits<double>::quiet_NaN();

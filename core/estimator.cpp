@@ -64,10 +64,6 @@ std::optional<std::string> implausible(const LearnedState& s) {
     const auto& t = s.temperature_sums[axis];
     if (!t.normal.allFinite() || !t.rhs.allFinite() || !std::isfinite(t.yy) || !std::isfinite(t.weight) || t.weight < 0)
       return "temperature model not finite";
-    const auto& score = s.temperature_scores[axis];
-    if (!std::isfinite(score.seen_times_predicted) || !(score.predicted_sq >= 0.0) ||
-        !(score.predicted_sq_noise >= 0.0) || !std::isfinite(score.predicted_sq + score.predicted_sq_noise))
-      return "temperature model score not finite";
   }
   if (!std::isnan(s.heading_deg) && !(std::abs(s.heading_deg) <= 1e7)) return "heading not finite";
   if (!std::isnan(s.heading_variance_deg2) && !(s.heading_variance_deg2 >= 0.0 && s.heading_variance_deg2 <= 1e6))
@@ -182,8 +178,7 @@ Diagnostics Estimator::diagnostics() const {
     d.hint_conflicts = a->hint_conflicts();
     for (int axis = 0; axis < 3; ++axis) {
       const TemperatureModel& model = a->temperature_model(axis);
-      const bool in_use = a->temperature_model_in_use(axis);
-      d.temperature[static_cast<std::size_t>(axis)] = {in_use, model.ready() && !in_use, model.slope_dps_per_c(25.0),
+      d.temperature[static_cast<std::size_t>(axis)] = {model.ready(), model.slope_dps_per_c(25.0),
                                                        model.weighted_span_c(), model.points()};
     }
   }
@@ -222,7 +217,6 @@ LearnedState Estimator::learned_now() const {
     for (std::size_t axis = 0; axis < 3; ++axis) {
       state.temperature_sums[axis] = a->temperature_model(static_cast<int>(axis)).sums();
       state.temperature_points[axis] = a->temperature_model(static_cast<int>(axis)).points();
-      state.temperature_scores[axis] = a->temperature_score(static_cast<int>(axis));
     }
   }
   return state;
@@ -242,11 +236,9 @@ void Estimator::restore(const LearnedState& state, bool with_heading) {
   if (auto* a = std::get_if<AutoEstimator>(&impl_)) {
     a->set_noise(state.sigma_still_dps, state.arw_dps_rt_hz);
     if (!std::isnan(state.scale_z_sigma)) a->restore_scale(state.scale_z, state.scale_z_sigma);
-    for (std::size_t axis = 0; axis < 3; ++axis) {
+    for (std::size_t axis = 0; axis < 3; ++axis)
       a->restore_temperature_model(static_cast<int>(axis), state.temperature_sums[axis],
                                    state.temperature_points[axis]);
-      a->restore_temperature_score(static_cast<int>(axis), state.temperature_scores[axis]);
-    }
   }
 }
 

@@ -41,7 +41,6 @@ void SensorModels::assume_white_if_unknown(const SegmentStats& stats, double dur
 
 void SensorModels::relearn_after_recovery(const Vec3& sigma_dps) {
   for (auto& model : temperature_) model = TemperatureModel(settings_.temperature);
-  temperature_score_.fill(TemperatureScore{});
   if (!segments_.sigma_still_dps) sigma_still_dps_ = sigma_dps.cwiseMax(kMinSigmaStillDps);
 }
 
@@ -59,37 +58,8 @@ void SensorModels::restart_noise_if_inflated(const SegmentStats& stats, const Bl
 void SensorModels::add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2) {
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
-    score_temperature_point(axis, mid_t_s, temp_c, mean_dps[a], r_dps2[a]);
     temperature_[axis].add(mid_t_s, temp_c, mean_dps[a], r_dps2[a]);
   }
-}
-
-void SensorModels::score_temperature_point(std::size_t axis, double t_s, double temp_c, double mean_dps,
-                                           double variance) {
-  TemperatureScore& score = temperature_score_[axis];
-  if (!std::isfinite(temp_c) || !std::isfinite(mean_dps) || !std::isfinite(variance)) return;
-  const TemperatureModel& model = temperature_[axis];
-  if (std::isfinite(score.last_t_s) && model.ready()) {
-    const double fade = std::exp2(-std::max(0.0, t_s - score.last_t_s) / settings_.temperature.half_life_s);
-    const double seen = mean_dps - score.last_mean_dps;
-    const double predicted = model.predict_dps(temp_c) - model.predict_dps(score.last_temp_c);
-    TemperatureScoreSums& sums = score.sums;
-    sums.seen_times_predicted = fade * sums.seen_times_predicted + seen * predicted;
-    sums.predicted_sq = fade * sums.predicted_sq + predicted * predicted;
-    sums.predicted_sq_noise = fade * sums.predicted_sq_noise + predicted * predicted * (variance + score.last_variance);
-    score.set_aside = score.margin() < -kTemperatureLosingMargin;
-  }
-  score.last_t_s = t_s;
-  score.last_temp_c = temp_c;
-  score.last_mean_dps = mean_dps;
-  score.last_variance = variance;
-}
-
-void SensorModels::restore_temperature_score(int axis, const TemperatureScoreSums& sums) {
-  TemperatureScore& score = temperature_score_[static_cast<std::size_t>(axis)];
-  score = TemperatureScore{};  // the points before the restart are not this run's to difference
-  score.sums = sums;
-  score.set_aside = score.margin() < -kTemperatureLosingMargin;
 }
 
 void SensorModels::restore_noise(const Vec3& sigma_still_dps, const Vec3& arw_dps_rt_hz) {

@@ -7,7 +7,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 
 #include "core/auto_settings.hpp"
 #include "core/bias_tracker.hpp"
@@ -16,10 +15,6 @@
 #include "core/temperature_model.hpp"
 
 namespace headingd::core {
-
-// Standard errors by which a temperature model may lose to no change before it is set aside
-// (2: seed 58 of the sweep and 248, 316 of the held-out seeds; at 3 none of seeds 1-200 changed).
-inline constexpr double kTemperatureLosingMargin = 2.0;
 
 class SensorModels {
  public:
@@ -45,32 +40,19 @@ class SensorModels {
   bool follows_temperature(double temp_c, double previous_temp_c) const {
     return std::isfinite(temp_c) && std::isfinite(previous_temp_c) && temp_c != previous_temp_c;
   }
-  // The bias change on one axis that its temperature model predicts for that step; false while
-  // the model is not in use. (Inline: it runs on every sample.)
-  bool temperature_shift(int axis, double temp_c, double previous_temp_c, double& shift_dps) const {
-    if (!temperature_in_use(axis)) return false;
+  // The bias change on one axis that its temperature model predicts for that step, with the
+  // variance of the model's slope; false while the model is not in use. (Inline: it runs on
+  // every sample.)
+  bool temperature_shift(int axis, double temp_c, double previous_temp_c, double& shift_dps,
+                         double& slope_variance) const {
     const TemperatureModel& model = temperature_[static_cast<std::size_t>(axis)];
+    if (!settings_.use_temperature || !model.ready()) return false;
     // The model's own difference, not slope x step: a slope taken at one end of each step
     // ratchets when the temperature toggles between two readings (the fuzzer found a bias of
     // -10000 dps that way under a quadratic fit); the difference returns to where it started.
     shift_dps = model.predict_dps(temp_c) - model.predict_dps(previous_temp_c);
+    slope_variance = model.slope_variance();
     return true;
-  }
-  // Whether the model on `axis` carries the bias: learned, and not set aside by its score (below).
-  bool temperature_in_use(int axis) const {
-    const auto i = static_cast<std::size_t>(axis);
-    return settings_.use_temperature && temperature_[i].ready() && !temperature_score_[i].set_aside;
-  }
-  // How far the bias may have moved per degC, as a variance: the model's slope uncertainty where
-  // it is in use; a model set aside still says how steep the bias can be, with the unmodelled
-  // share beside it; with no model, the unmodelled share alone.
-  double temperature_slope_variance(int axis, double temp_c) const {
-    const auto i = static_cast<std::size_t>(axis);
-    const double unmodelled = settings_.unmodelled_bias_per_c_dps * settings_.unmodelled_bias_per_c_dps;
-    if (!settings_.use_temperature || !temperature_[i].ready()) return unmodelled;
-    if (temperature_in_use(axis)) return temperature_[i].slope_variance();
-    const double slope = temperature_[i].slope_dps_per_c(temp_c);
-    return unmodelled + slope * slope;
   }
   // Sample-to-sample differences of the z rate: vibration while moving.
   void track_vibration(const Vec3& rate_dps, double dt_s) {
@@ -109,11 +91,6 @@ class SensorModels {
   void restore_temperature_model(int axis, const TemperatureModel::Sums& sums, std::uint32_t points) {
     temperature_[static_cast<std::size_t>(axis)].restore(sums, points);
   }
-  // The score that sets a model aside, saved and restored with it.
-  const TemperatureScoreSums& temperature_score(int axis) const {
-    return temperature_score_[static_cast<std::size_t>(axis)].sums;
-  }
-  void restore_temperature_score(int axis, const TemperatureScoreSums& sums);
 
   const Vec3& sigma_still_dps() const { return sigma_still_dps_; }
   const Vec3& white_dps2_s() const { return white_dps2_s_; }  // N^2 per axis
@@ -124,32 +101,6 @@ class SensorModels {
   BiasSettings segments_;
   AutoSettings settings_;
   std::array<TemperatureModel, 3> temperature_;
-  // Per axis, whether the model has earned its use, scored held-out: each still point's level is
-  // predicted from the previous point's before the point joins the model, by the model's change
-  // between their temperatures (p) and by no change; the level seen changed by s. The model's
-  // squared error less no change's is p^2 - 2 s p, so sum(s p) - sum(p^2) / 2 is what the model
-  // has won, and under the two levels' noise (variances r1 + r2) its standard deviation is
-  // sqrt(sum(p^2 (r1 + r2))). Points within one stop change little in temperature and weigh
-  // nothing. Faded with the model's half-life; a restart of the bias starts the score over.
-  // A model that has lost by more than kTemperatureLosingMargin standard errors is set aside
-  // (a slope fitted to a warm-up whose drift was in time, not temperature, moves the bias
-  // wrongly for as long as the temperature keeps changing) until it wins that back.
-  struct TemperatureScore {
-    double last_t_s = std::numeric_limits<double>::quiet_NaN();
-    double last_temp_c = 0.0;
-    double last_mean_dps = 0.0;
-    double last_variance = 0.0;
-    TemperatureScoreSums sums;
-    bool set_aside = false;  // margin() below -kTemperatureLosingMargin, kept for the hot path
-    // In standard errors: how far the model's predictions have beaten no change (negative: lost).
-    double margin() const {
-      return sums.predicted_sq_noise > 0.0
-                 ? (sums.seen_times_predicted - 0.5 * sums.predicted_sq) / std::sqrt(sums.predicted_sq_noise)
-                 : 0.0;
-    }
-  };
-  std::array<TemperatureScore, 3> temperature_score_{};
-  void score_temperature_point(std::size_t axis, double t_s, double temp_c, double mean_dps, double variance);
   NoiseDensity pooled_noise_;
   Vec3 sigma_still_dps_ = Vec3::Zero();
   Vec3 white_dps2_s_ = Vec3::Zero();

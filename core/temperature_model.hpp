@@ -19,15 +19,6 @@ struct TemperatureModelSettings {
 
 inline constexpr TemperatureModelSettings kDefaultTemperatureModelSettings{};
 
-// The held-out score that decides whether a model is used (SensorModels): each still point's
-// change from the one before, s, against the model's predicted change, p, summed with fading.
-// Kept across a restart, so that a model set aside stays aside.
-struct TemperatureScoreSums {
-  double seen_times_predicted = 0.0;  // sum s p
-  double predicted_sq = 0.0;          // sum p^2
-  double predicted_sq_noise = 0.0;    // sum p^2 (r1 + r2), r the two levels' variances
-};
-
 class TemperatureModel {
  public:
   explicit TemperatureModel(const TemperatureModelSettings& settings = kDefaultTemperatureModelSettings);

@@ -108,9 +108,7 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
           "heading corrected by " + number(d.last_return_correction_deg) +
               " deg: a bias restart had returned to a level an earlier stop measured");
   std::string model;
-  // Per axis: in use, learned but set aside (it predicted the stops worse than no change), or not yet.
-  for (std::size_t a = 0; a < 3; ++a)
-    model += std::string(a ? " " : "") + (d.temperature[a].ready ? "on" : d.temperature[a].set_aside ? "aside" : "off");
+  for (std::size_t a = 0; a < 3; ++a) model += std::string(a ? " " : "") + (d.temperature[a].ready ? "on" : "off");
   entry.values = {{"method", std::string(core::method_name(d.method))},
                   {"heading_deg", number(e.heading_deg)},
                   {"heading_sigma_deg", number(sigma)},

@@ -75,13 +75,6 @@ std::string format_state(const SavedState& s) {
                      t.rhs(0), t.rhs(1), t.rhs(2), t.yy, t.weight})
          << "\n";
   }
-  // Optional (files before it lack it: the model starts in use): the score that sets it aside.
-  for (int a = 0; a < 3; ++a) {
-    const auto& score = s.temperature_scores[static_cast<std::size_t>(a)];
-    body << "temperature_score_"
-         << "xyz"[a] << "=" << numbers({score.seen_times_predicted, score.predicted_sq, score.predicted_sq_noise})
-         << "\n";
-  }
   const std::string text = body.str();
   char line[48];
   std::snprintf(line, sizeof line, "checksum=%016llx\n", static_cast<unsigned long long>(checksum(text)));
@@ -165,13 +158,6 @@ SavedState parse_state(const std::string& text, const std::string& name) {
     sums.rhs << t[7], t[8], t[9];
     sums.yy = t[10];
     sums.weight = t[11];
-    const std::string score_key = std::string("temperature_score_") + "xyz"[a];
-    if (fields.count(score_key) != 0) {
-      const auto& v = need(score_key, 3);
-      if (!std::isfinite(v[0]) || !(v[1] >= 0.0 && v[1] < 1e300) || !(v[2] >= 0.0 && v[2] < 1e300))
-        fail("field " + score_key + ": values out of range");
-      s.temperature_scores[static_cast<std::size_t>(a)] = {v[0], v[1], v[2]};
-    }
   }
   return s;
 }

@@ -1,6 +1,5 @@
 // The parts of method auto, each alone: the angle/bias Kalman filter, the temperature
-// model and the score that sets it aside, the noise-density estimate, the scale factor, the bias
-// history.
+// model, the noise-density estimate, the scale factor, the bias history.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +10,6 @@
 #include "core/bias_history.hpp"
 #include "core/noise_density.hpp"
 #include "core/scale_factor.hpp"
-#include "core/sensor_models.hpp"
 #include "core/temperature_model.hpp"
 
 using namespace headingd::core;
@@ -134,72 +132,6 @@ TEST(TemperatureModel, OldPointsFade) {
   // A day later the chip's slope has changed; new points soon outweigh the old.
   for (int i = 0; i < 100; ++i) model.add(86400.0 + i * 10.0, 20.0 + (i % 10), -0.001 * (i % 10), 1e-6);
   EXPECT_NEAR(model.slope_dps_per_c(25.0), -0.001, 1e-4);
-}
-
-namespace {
-// A warm-up of ten stops, 20 -> 23.6 C, whose bias rose 0.01 dps/C (a drift in time that the
-// temperature shared), then stops alternating between 24 and 22 C whose bias follows `slope`.
-SensorModels models_after_warm_up(double slope, int later_stops) {
-  SensorModels models(kDefaultBiasSettings, AutoSettings{});
-  std::mt19937_64 rng(12);
-  std::normal_distribution<double> noise(0.0, 0.002);
-  const Vec3 r = Vec3::Constant(0.002 * 0.002);
-  for (int i = 0; i < 10; ++i) {
-    const double temp = 20.0 + 0.4 * i;
-    models.add_temperature_point(30.0 * i, temp, Vec3(0.0, 0.0, 0.5 + 0.01 * (temp - 20.0) + noise(rng)), r);
-  }
-  for (int i = 0; i < later_stops; ++i) {
-    const double temp = i % 2 == 0 ? 24.0 : 22.0;
-    const double bias = 0.54 + slope * (temp - 24.0) + noise(rng);
-    models.add_temperature_point(600.0 + 120.0 * i, temp, Vec3(0.0, 0.0, bias), r);
-  }
-  return models;
-}
-}  // namespace
-
-TEST(SensorModels, ATemperatureModelTheNextStopsDoNotFollowIsSetAsideAndOneTheyFollowStays) {
-  const SensorModels warmed = models_after_warm_up(0.01, 0);
-  ASSERT_TRUE(warmed.temperature_model(2).ready());
-  EXPECT_NEAR(warmed.temperature_model(2).slope_dps_per_c(22.0), 0.01, 0.001);
-  EXPECT_TRUE(warmed.temperature_in_use(2)) << "nothing scored yet: the model is used";
-  double shift = 0.0;
-  EXPECT_TRUE(warmed.temperature_shift(2, 22.0, 24.0, shift));
-  EXPECT_NEAR(shift, -0.02, 0.002);
-
-  // The stops after it show no change between 24 and 22 C: the slope was time's, not the
-  // temperature's. Each stop's level, predicted before it joins the model, loses by 0.02 dps
-  // against noise of 0.003: set aside from the first such pair.
-  const SensorModels flat = models_after_warm_up(0.0, 2);
-  EXPECT_FALSE(flat.temperature_in_use(2));
-  EXPECT_FALSE(flat.temperature_shift(2, 22.0, 24.0, shift));
-  // Set aside, its slope still says how far the bias can move: the sigma takes it.
-  const double slope = flat.temperature_model(2).slope_dps_per_c(23.0);
-  EXPECT_GT(std::abs(slope), 0.003);
-  EXPECT_NEAR(flat.temperature_slope_variance(2, 23.0), 0.003 * 0.003 + slope * slope, 1e-12);
-  // And it stays aside while the stops keep showing no change, though it learns from them.
-  EXPECT_FALSE(models_after_warm_up(0.0, 40).temperature_in_use(2));
-  // A restart keeps it aside: the score is saved with the model.
-  SensorModels restarted(kDefaultBiasSettings, AutoSettings{});
-  const TemperatureModel& model = flat.temperature_model(2);
-  restarted.restore_temperature_model(2, model.sums(), model.points());
-  EXPECT_TRUE(restarted.temperature_in_use(2)) << "a model restored without its score starts in use";
-  restarted.restore_temperature_score(2, flat.temperature_score(2));
-  EXPECT_FALSE(restarted.temperature_in_use(2));
-
-  // Stops that follow the slope keep the model in use, and its uncertainty is its own.
-  const SensorModels following = models_after_warm_up(0.01, 40);
-  EXPECT_TRUE(following.temperature_in_use(2));
-  EXPECT_NEAR(following.temperature_slope_variance(2, 23.0), following.temperature_model(2).slope_variance(), 1e-15);
-  // Its other axes saw no temperature dependence at all, so they have nothing to set aside.
-  EXPECT_TRUE(following.temperature_in_use(0));
-
-  // Without the model configured, nothing is in use and the unmodelled share is the sigma's.
-  AutoSettings off;
-  off.use_temperature = false;
-  SensorModels none(kDefaultBiasSettings, off);
-  none.add_temperature_point(0.0, 20.0, Vec3::Zero(), Vec3::Constant(1e-6));
-  EXPECT_FALSE(none.temperature_in_use(2));
-  EXPECT_EQ(none.temperature_slope_variance(2, 20.0), off.unmodelled_bias_per_c_dps * off.unmodelled_bias_per_c_dps);
 }
 
 TEST(NoiseDensity, BlockMeansRecoverWhiteNoiseDensityThroughALowPass) {

@@ -216,14 +216,6 @@ TEST(RosDiagnostics, LevelsFollowFaultsAndSigma) {
   EXPECT_TRUE(has_key(entries[1], "scale_z") && has_key(entries[1], "scale_z_sigma"));
   for (const char* key : {"bias_restarts", "bias_restarts_taken_back", "bias_restarts_refused", "returns_mended"})
     EXPECT_TRUE(has_key(entries[1], key)) << key;
-  const auto value = [](const app::DiagnosticEntry& entry, const std::string& key) {
-    for (const auto& [k, v] : entry.values)
-      if (k == key) return v;
-    return std::string();
-  };
-  learned.temperature[0].ready = true;
-  learned.temperature[2].set_aside = true;
-  EXPECT_EQ(value(builder.build(e, learned, report, {})[1], "temperature_model"), "on off aside");
 }
 
 TEST(RosDiagnostics, ABiasRestartAndAHeadingCorrectionWarnForTenSeconds) {

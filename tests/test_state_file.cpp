@@ -1,8 +1,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdint>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -27,30 +25,7 @@ SavedState sample_state(double z) {
   s.temperature_sums[2].rhs << 0.1, 0.2, 0.3;
   s.temperature_sums[2].yy = 0.04;
   s.temperature_sums[2].weight = 5;
-  s.temperature_scores[2] = {-0.00123456789, 0.000456, 1.5e-9};
   return s;
-}
-
-// A file as headingd wrote it before a field existed: the lines starting with `prefix` left
-// out, the checksum (64-bit FNV-1a of everything before it) made again.
-std::string without_lines(const std::string& text, const std::string& prefix) {
-  std::string body;
-  std::size_t at = 0;
-  while (at < text.size()) {
-    const std::size_t end = text.find('\n', at);
-    const std::string line = text.substr(at, end - at + 1);
-    at = end + 1;
-    if (line.rfind("checksum=", 0) == 0) break;
-    if (line.rfind(prefix, 0) != 0) body += line;
-  }
-  std::uint64_t h = 1469598103934665603ull;
-  for (const char ch : body) {
-    h ^= static_cast<unsigned char>(ch);
-    h *= 1099511628211ull;
-  }
-  char line[48];
-  std::snprintf(line, sizeof line, "checksum=%016llx\n", static_cast<unsigned long long>(h));
-  return body + line;
 }
 
 std::string read(const std::string& path) {
@@ -71,32 +46,7 @@ TEST(StateFile, RoundTripIsExact) {
   EXPECT_EQ(loaded.temp_c, saved.temp_c);
   EXPECT_EQ(loaded.temperature_sums[2].normal, saved.temperature_sums[2].normal);
   EXPECT_EQ(loaded.temperature_points[2], 12u);
-  EXPECT_EQ(loaded.temperature_scores[2].seen_times_predicted, saved.temperature_scores[2].seen_times_predicted);
-  EXPECT_EQ(loaded.temperature_scores[2].predicted_sq, saved.temperature_scores[2].predicted_sq);
-  EXPECT_EQ(loaded.temperature_scores[2].predicted_sq_noise, saved.temperature_scores[2].predicted_sq_noise);
   EXPECT_TRUE(std::isnan(loaded.scale_z_sigma)) << "no scale learned, none saved";
-}
-
-TEST(StateFile, AFileFromBeforeTheTemperatureScoreLoadsWithNoneAndABadScoreIsRefused) {
-  TempDir dir;
-  const std::string text = format_state(sample_state(-0.45));
-  ASSERT_NE(text.find("temperature_score_z="), std::string::npos);
-  const std::string old = without_lines(text, "temperature_score_");
-  ASSERT_EQ(old.find("temperature_score_"), std::string::npos);
-  const SavedState loaded = load_state(dir.file("old", old));
-  EXPECT_EQ(loaded.temperature_scores[2].predicted_sq, 0.0) << "no score: the model starts in use";
-  EXPECT_EQ(loaded.temperature_points[2], 12u);
-  SavedState bad = sample_state(-0.45);
-  bad.temperature_scores[1].predicted_sq = -1.0;  // a sum of squares: corrupt
-  const auto path = dir.path("bad");
-  save_state(path, bad);
-  try {
-    load_state(path);
-    FAIL() << "a negative sum of squares was loaded";
-  } catch (const StateError& error) {
-    EXPECT_NE(std::string(error.what()).find("temperature_score_y: values out of range"), std::string::npos)
-        << error.what();
-  }
 }
 
 TEST(StateFile, ALearnedScaleFactorRoundTripsAndAnAbsurdOneIsRefused) {

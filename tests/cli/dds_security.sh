@@ -18,11 +18,11 @@ config() {  # who -> config file
     "$dir/pki" "$dir/pki" "$1" "$dir/pki" "$1" "$dir/pki" "$dir/pki" "$dir/pki" >>"$dir/$1.toml"
 }
 for who in headingd navigation observer plain; do config $who; done
-"$headingd" simulate --scenario still --seed 3 --hours 0.0055555556 --output-dir "$dir" 2>/dev/null || fail "simulate"
+"$headingd" simulate --scenario still --seed 3 --hours 0.0111111111 --output-dir "$dir" 2>/dev/null || fail "simulate"
 
-"$headingd" echo orientation status --json -c "$dir/navigation.toml" --timeout 40 >"$dir/nav.out" 2>"$dir/nav.err" &
+"$headingd" echo orientation status --json -c "$dir/navigation.toml" --timeout 60 >"$dir/nav.out" 2>"$dir/nav.err" &
 pids+=($!)
-"$headingd" echo orientation status bias --json -c "$dir/plain.toml" --timeout 30 >"$dir/plain.out" 2>/dev/null &
+"$headingd" echo orientation status bias --json -c "$dir/plain.toml" --timeout 50 >"$dir/plain.out" 2>/dev/null &
 pids+=($!)
 "$headingd" replay "$dir/imu.csv" --speed realtime --wait-subscribers 15 --linger 3 -c "$dir/headingd.toml" -o /dev/null 2>"$dir/replay.err" &
 replay=$!
@@ -30,7 +30,7 @@ pids+=($replay)
 sleep 6
 "$headingd" command set-heading --heading-deg 45 -c "$dir/plain.toml" --wait 3 >/dev/null 2>&1 && fail "an unauthenticated command found a reader"
 "$headingd" command set-heading --heading-deg 30 -c "$dir/observer.toml" >"$dir/observer.err" 2>&1 && fail "observer may not send commands"
-"$headingd" command set-heading --heading-deg 90 -c "$dir/navigation.toml" || fail "the permitted command was not delivered"
+"$headingd" command set-heading --heading-deg 90 -c "$dir/navigation.toml" --wait 15 || fail "the permitted command was not delivered"
 wait "$replay" || fail "replay: $(tail -3 "$dir/replay.err")"
 sleep 1
 kill -INT "${pids[0]}" "${pids[1]}" 2>/dev/null; wait "${pids[0]}" "${pids[1]}" 2>/dev/null
