@@ -37,6 +37,9 @@ constexpr double kUnconditionalRecoveryFactor = 10.0;
 constexpr double kMostlyRejecting = 0.8;
 constexpr double kFewVerdicts = 5.0;
 constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
+// The odds that an undecided recovery's quiet run was a creep, against a stop, fall with the
+// square of how long it has held still, from even at the wait (see undecided_offset_deg).
+constexpr double kCreepOddsPower = 2.0;
 constexpr double kVerdictMemory = 0.995;
 // A start-up segment whose block means scatter this many times more than its samples' white
 // noise allows is motion; after this many of them (5 minutes) the next is the start-up whatever
@@ -87,6 +90,7 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
 
 double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   const double before_deg = filters_[2].angle_deg();
+  const double shown_before_deg = before_deg + shown_undecided_deg_;  // as last shown
   // A fix names a direction; the turns counted so far are ours: the equivalent nearest to the
   // heading now (a fix of 90 at an unwrapped 449 is 450, not a jump of 359 degrees).
   const double fix_deg = before_deg + std::remainder(heading_deg - before_deg, 360.0);
@@ -109,7 +113,8 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   return_correction_deg_.reset();  // and so does a correction held for a return,
   history_.forget();               // and every heading the history kept
   turned_from_deg_ = filters_[2].angle_deg();
-  return filters_[2].angle_deg() - before_deg;
+  shown_undecided_deg_ = 0.0;
+  return filters_[2].angle_deg() - shown_before_deg;
 }
 
 void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {
@@ -634,6 +639,9 @@ void AutoEstimator::recover_bias() {
                                                                   : run_start_s;
   const double exposed_s = std::max(0.0, run_start_s - trusted_until_s);
   replaced_.pending = recovery_ambiguous_;
+  replaced_.creep_sized = std::abs(mean.z() - quiet_.filters_at_start[2].bias_dps) <= kFastestCreepDps;
+  replaced_.run_s = quiet_.duration_s;
+  replaced_.still_s = quiet_.duration_s;
   replaced_.quiet_run_over = false;
   replaced_.at_t_s = segment_.start_t_s + segment_.duration_s;
   double yaw_correction_deg = 0.0;
@@ -837,6 +845,28 @@ HEADINGD_HOT double AutoEstimator::rate_for_angle(const Vec3& rate_dps, int axis
   return scaled_z(rate_dps.z(), filters_[2].bias_dps(), scale_.gain());
 }
 
+double AutoEstimator::undecided_offset_deg(double t_s) {
+  // A creep held past the wait after a short start-up and a stop after one look alike (the
+  // quiet run is the only evidence, and it is the same); the filters follow the restarted
+  // level and the sigma covers both, but the heading shown is their probability-weighted mean,
+  // which halves the error of whichever was wrong (issue 12's random worlds: seed 200's creep
+  // restart, 79 deg -> 46 deg, before the next stop took it back). Even at the wait, as in
+  // Replaced; every further second the run holds still makes a creep less likely and a stop
+  // more, with odds falling as the square of its length, so a long stop converges on the
+  // restart. A faster rate change than a creep's is a turn, not a creep: no share. Only the
+  // shown heading and attitude lean; the filters, the tests and the saved heading do not.
+  if (!replaced_.pending || !replaced_.creep_sized) return 0.0;
+  const double span_s = std::max(0.0, t_s - replaced_.at_t_s);
+  if (!replaced_.quiet_run_over) replaced_.still_s = replaced_.run_s + span_s;
+  const double odds = std::pow(replaced_.run_s / std::max(replaced_.still_s, replaced_.run_s), kCreepOddsPower);
+  const double kept_share = odds / (1.0 + odds);
+  const AxisFilter::State& kept = replaced_.as_kept[2];
+  const AxisFilter::State& restarted = replaced_.as_restarted[2];
+  // The kept version's heading less the restarted one's, carried (as in as_if_kept).
+  const double difference_deg = (kept.angle_deg - restarted.angle_deg) - span_s * (kept.bias_dps - restarted.bias_dps);
+  return std::isfinite(difference_deg) ? kept_share * difference_deg : 0.0;
+}
+
 Vec3 AutoEstimator::bias_dps() const {
   return {filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps()};
 }
@@ -845,8 +875,12 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
   const Vec3 bias = bias_dps();
   estimate_.t_s = sample.t_s;
   estimate_.temp_c = sample.temp_c;
-  estimate_.heading_deg = filters_[2].angle_deg();
+  const double undecided_deg = undecided_offset_deg(sample.t_s);
+  shown_undecided_deg_ = undecided_deg;
+  estimate_.heading_deg = filters_[2].angle_deg() + undecided_deg;
   estimate_.attitude = attitude_.attitude();
+  if (undecided_deg != 0.0)
+    estimate_.attitude = Eigen::AngleAxisd(deg_to_rad(undecided_deg), Vec3::UnitZ()) * estimate_.attitude;
   estimate_.bias_dps = bias;
   estimate_.rate_dps = sample.rate_dps - bias;
   if (in_startup_ && moving_startups_ == 0) {

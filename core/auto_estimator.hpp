@@ -232,9 +232,16 @@ class AutoEstimator {
     double at_t_s = 0.0;
     std::array<AxisFilter::State, 3> as_kept{};
     std::array<AxisFilter::State, 3> as_restarted{};
+    bool creep_sized = false;  // the z level changed by no more than a creep's rate
+    double run_s = 0.0;        // the quiet run's length at the recovery
+    double still_s = 0.0;      // its length with the still time after the recovery, until motion
   };
   Replaced replaced_;
-  bool recovery_ambiguous_ = false;  // the recovery under way replaces an unconfirmed bias
+  // The heading shown while a creep-sized recovery is undecided leans towards the kept level by
+  // that level's probability; the filters keep the restarted one (see fill_estimate).
+  double undecided_offset_deg(double t_s);
+  double shown_undecided_deg_ = 0.0;  // in the estimate last filled
+  bool recovery_ambiguous_ = false;   // the recovery under way replaces an unconfirmed bias
   std::uint64_t taken_back_ = 0;
   // For a segment the mean test rejected: if it agrees with the replaced level, puts that level
   // back (the filters now and at the segment's start, the attitude's yaw) and re-judges.
