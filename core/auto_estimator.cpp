@@ -854,7 +854,7 @@ double AutoEstimator::undecided_offset_deg(double t_s) {
   // Replaced; every further second the run holds still makes a creep less likely and a stop
   // more, with odds falling as the square of its length, so a long stop converges on the
   // restart. A faster rate change than a creep's is a turn, not a creep: no share. Only the
-  // shown heading and attitude lean; the filters, the tests and the saved heading do not.
+  // shown heading and attitude lean (and a heading saved from them); the filters and the tests do not.
   if (!replaced_.pending || !replaced_.creep_sized) return 0.0;
   const double span_s = std::max(0.0, t_s - replaced_.at_t_s);
   if (!replaced_.quiet_run_over) replaced_.still_s = replaced_.run_s + span_s;
