@@ -39,6 +39,11 @@ void print_estimator(const core::Estimator& estimator) {
                    "  refused      %llu quiet periods steady at a level the confirmed bias could not have drifted "
                    "to (a creep or a slow curve held for minutes): no restart\n",
                    static_cast<unsigned long long>(d.refused_recoveries));
+    if (d.refuted_models > 0)
+      std::fprintf(stderr,
+                   "  refuted      %llu temperature models (per axis) whose slope a long quiet period's own level "
+                   "contradicted: forgotten and learned again\n",
+                   static_cast<unsigned long long>(d.refuted_models));
     const core::TemperatureModelState& model = d.temperature[2];
     if (model.ready) {
       std::fprintf(stderr, "  temperature  z bias slope %+.5f dps/C over a %.1f C span (%u segments)\n",

@@ -33,6 +33,10 @@ constexpr double kPlausibleSigmas = 5.0;
 constexpr double kZeroRateChangeDpsPerC = 0.04;
 constexpr double kPlausibleFloorDps = 0.005;
 constexpr double kModelMisfitDpsPerC = 0.003;  // a linear fit to a curved bias, per C of change
+// A quiet run's slope against temperature this many sigmas (its own, the model's and the
+// misfit) from the model's refutes the model. Forgetting a model costs little (it is learned
+// again from the next stops), keeping a wrong one a stop rejected for its whole length.
+constexpr double kRefuteSigmas = 3.0;
 constexpr double kUnconditionalRecoveryFactor = 10.0;
 constexpr double kMostlyRejecting = 0.8;
 constexpr double kFewVerdicts = 5.0;
@@ -511,7 +515,9 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   quiet_.sum_dps_s += mean_dps * duration_s;
   quiet_.sum_sq_dps2_s += mean_dps.cwiseAbs2() * duration_s;
   quiet_.sigma_dps = segment_.stats.sigma_dps();
+  if (segment_.temp_count > 0) quiet_.slope.add(duration_s, segment_.temp_sum_c / segment_.temp_count, mean_dps);
   if (quiet_.duration_s + kTimeEpsilonS < wait_before_recovery_s()) return;
+  forget_models_the_run_refutes();
   // Before a stop after motion has confirmed the bias, the run may be the stop and the bias
   // the turn (a start-up while turning); after, only a level the bias could have drifted to.
   // A run that goes on for many times the wait is no creep any more, whatever its level.
@@ -528,6 +534,34 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
     recover_bias();
   else if (quiet_.duration_s < settings_.recover_after_s + duration_s + kTimeEpsilonS)
     ++refused_recoveries_;  // counted once per run; the run goes on and is looked at again
+}
+
+void AutoEstimator::forget_models_the_run_refutes() {
+  LevelSlope::Fit fit;
+  if (!settings_.use_temperature || !quiet_.slope.fit(models_.white_dps2_s(), fit)) return;
+  for (int axis = 0; axis < 3; ++axis) {
+    const TemperatureModel& model = models_.temperature_model(axis);
+    if (!model.ready()) continue;
+    const double gap = fit.slope_dps_per_c[axis] - model.slope_dps_per_c(fit.mean_temp_c);
+    const double sd =
+        std::sqrt(fit.slope_variance[axis] + model.slope_variance() + kModelMisfitDpsPerC * kModelMisfitDpsPerC);
+    if (std::abs(gap) <= kRefuteSigmas * sd) continue;
+    models_.forget_temperature_model(axis);
+    ++refuted_models_;
+    // The model's slope was off by about `gap` since the bias was last measured (at T0), so the
+    // angle by gap times the integral of (T - T0) dt, which the slope's variance never covered:
+    // added to the angle's variance, now and at the run's start (where a restart begins). Not
+    // to the bias's: that would widen the mean test for the segments to come and let creeps in
+    // (tried: four random worlds' max excess grew tenfold). The restart measures the bias anew.
+    const auto i = static_cast<std::size_t>(axis);
+    if (!std::isfinite(temp_at_bias_c_[i])) continue;
+    const double change_c = previous_temp_c_ - temp_at_bias_c_[i];
+    const double integral_c_s =
+        temp_change_integral_c_s_[i] + change_c * std::max(0.0, previous_t_s_ - temp_change_t_s_);
+    const double angle_sd_deg = gap * integral_c_s;
+    filters_[i].widen_angle(angle_sd_deg * angle_sd_deg);
+    quiet_.filters_at_start[i].covariance(0, 0) += angle_sd_deg * angle_sd_deg;
+  }
 }
 
 double AutoEstimator::run_level_evidence() const {

@@ -22,6 +22,7 @@
 #include "core/bias_history.hpp"
 #include "core/bias_tracker.hpp"
 #include "core/estimate.hpp"
+#include "core/level_slope.hpp"
 #include "core/noise_density.hpp"
 #include "core/scale_factor.hpp"
 #include "core/segment_judge.hpp"
@@ -84,6 +85,7 @@ class AutoEstimator {
   // Quiet periods that looked like a stop under a wrong bias, whose level the confirmed bias
   // could not have drifted to (a creep or a slow curve held for minutes): no recovery.
   std::uint64_t refused_recoveries() const { return refused_recoveries_; }
+  std::uint64_t refuted_temperature_models() const { return refuted_models_; }
   // Recoveries taken back: a stop agreed with the level the recovery had replaced, and not with
   // its own (the quiet run was a creep after all).
   std::uint64_t recoveries_taken_back() const { return taken_back_; }
@@ -201,6 +203,7 @@ class AutoEstimator {
     Vec3 sigma_dps = Vec3::Zero();                      // per-sample sigma of its latest segment
     double judged_before = 0.0, rejected_before = 0.0;  // verdict weights before it began
     BiasHistory::Mark history_at_start;
+    LevelSlope slope;  // its level against temperature
     Vec3 mean_dps() const { return sum_dps_s / duration_s; }
   };
   // Whether the quiet run's level is a bias the sensor could have reached since its last stop
@@ -220,6 +223,11 @@ class AutoEstimator {
   std::uint64_t refused_recoveries_ = 0;
   // Extends the run with the segment just rejected, or starts it; recovers when it is long.
   void follow_quiet_run(const Vec3& mean_dps);
+  // A temperature model whose slope the quiet run's own level contradicts is forgotten: it
+  // would otherwise keep the run's stop rejected and its restart refused (the model's narrow
+  // slope sd makes the level implausible), and nothing else could ever correct it.
+  void forget_models_the_run_refutes();
+  std::uint64_t refuted_models_ = 0;
   void recover_bias();
   QuietRun quiet_;
   // What a recovery of a bias no stop had confirmed replaced, until a stop decides between the

@@ -169,6 +169,7 @@ Diagnostics Estimator::diagnostics() const {
     d.retracted_segments = a->retracted_segments();
     d.bias_recoveries = a->bias_recoveries();
     d.refused_recoveries = a->refused_recoveries();
+    d.refuted_models = a->refuted_temperature_models();
     d.recoveries_taken_back = a->recoveries_taken_back();
     d.returns_mended = a->returns_mended();
     d.last_return_correction_deg = a->last_return_correction_deg();

@@ -29,6 +29,10 @@ class SensorModels {
   // A recovery restarts the bias from a quiet run: its noise is the new still noise, and the
   // temperature model, which learned from the wrong level, starts over.
   void relearn_after_recovery(const Vec3& sigma_dps);
+  // A model the data contradict starts over on that axis.
+  void forget_temperature_model(int axis) {
+    temperature_[static_cast<std::size_t>(axis)] = TemperatureModel(settings_.temperature);
+  }
   // The noise figures learned so far may come from a start-up that was a turn: a ramp in it
   // reads as noise, dps where a still gyro has hundredths. If they lie far above this quiet
   // segment's, they start over from it; a steady turn's noise is a still gyro's, and stays.

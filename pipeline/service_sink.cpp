@@ -43,6 +43,13 @@ void ServiceSink::batch_done(const core::Estimator& estimator, const core::Sampl
                   diagnostics.last_return_correction_deg, last.heading_sigma_deg);
     app::log(app::LogPriority::Notice, "bias-recovery", text);
   }
+  if (rose(diagnostics.refuted_models, refuted_models_seen_)) {
+    std::snprintf(text, sizeof text,
+                  "a temperature model was forgotten: a long quiet period's level followed the temperature with "
+                  "another slope (%llu so far); the bias follows no model until stops teach it again",
+                  static_cast<unsigned long long>(diagnostics.refuted_models));
+    app::log(app::LogPriority::Notice, "temperature-model", text);
+  }
   notifier_.ready();  // after the first good batch
   notifier_.sample_loop_alive();
   const auto now = std::chrono::steady_clock::now();

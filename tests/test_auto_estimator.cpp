@@ -685,3 +685,53 @@ TEST(AutoEstimator, ALongStopAfterAnUndecidedRestartConvergesOnTheRestart) {
   EXPECT_LT(at_900_s, 1.1);
   EXPECT_EQ(rig.estimator().automatic()->recoveries_taken_back(), 0u);
 }
+
+TEST(AutoEstimator, AStopWhoseLevelFollowsAnotherSlopeRefutesAWrongTemperatureModel) {
+  // Issue 12 (random worlds 32 and 65): a temperature model that says +0.02 dps/C on z (taught
+  // by a creep during a warm-up, or saved on another unit) where this chip's bias moves -0.004
+  // dps/C. A drive while warming takes the bias 0.1 dps away, and the stop after it lies far
+  // outside the model's narrow slope sigma: rejected, and its restart refused, for as long as
+  // it lasts. Its own level follows the temperature at -0.004 dps/C; that contradicts the model,
+  // which is forgotten, and the stop restarts the bias.
+  TemperatureModel wrong;
+  for (int i = 0; i < 40; ++i) {
+    const double temp = 20.0 + 10.0 * (i % 20) / 19.0;
+    wrong.add(i * 3.0, temp, -0.45 + 0.02 * (temp - 20.0), 1e-6);
+  }
+  ASSERT_TRUE(wrong.ready());
+  Estimator estimator;
+  estimator.automatic_mutable()->restore_temperature_model(2, wrong.sums(), wrong.points());
+  std::mt19937_64 rng(8);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  constexpr double kHz = 200.0;
+  double truth_deg = 0.0, error_at_stop_deg = 0.0;
+  const auto n = static_cast<long>(500.0 * kHz);
+  for (long i = 0; i < n; ++i) {
+    Sample s;
+    s.t_s = static_cast<double>(i) / kHz;
+    // Still 20 s (start-up), a drive, a stop that confirms the bias (all at 20 C), a drive
+    // warming to 24 C, then a stop of 300 s warming on to 30 C.
+    const bool driving = (s.t_s >= 20.0 && s.t_s < 50.0) || (s.t_s >= 80.0 && s.t_s < 200.0);
+    s.temp_c = s.t_s < 80.0    ? 20.0
+               : s.t_s < 200.0 ? 20.0 + 4.0 * (s.t_s - 80.0) / 120.0
+                               : 24.0 + 6.0 * (s.t_s - 200.0) / 300.0;
+    const double rate = driving ? 20.0 * std::sin(2.0 * 3.14159265358979 * s.t_s / 40.0) : 0.0;
+    const double shake = driving ? noise(rng) : 0.0;
+    const double bias_z = -0.45 - 0.004 * (s.temp_c - 20.0);
+    s.rate_dps = Vec3(0.3 + 0.05 * noise(rng) + shake, -0.2 + 0.05 * noise(rng) + shake,
+                      bias_z + rate + 0.05 * noise(rng) + 0.3 * shake);
+    if (i > 0) truth_deg += rate / kHz;
+    const Estimate& e = estimator.update(s);
+    if (i == static_cast<long>(200.0 * kHz)) error_at_stop_deg = truth_deg - e.heading_deg;
+  }
+  const AutoEstimator& automatic = *estimator.automatic();
+  const double error_deg = truth_deg - estimator.last().heading_deg;
+  SCOPED_TRACE("error at the stop " + std::to_string(error_at_stop_deg) + " deg, at its end " +
+               std::to_string(error_deg) + " deg, sigma " + std::to_string(estimator.last().heading_sigma_deg));
+  EXPECT_GT(std::abs(error_at_stop_deg), 3.0) << "the wrong model cost heading on the drive";
+  EXPECT_EQ(automatic.refuted_temperature_models(), 1u);
+  EXPECT_EQ(automatic.bias_recoveries(), 1u);
+  EXPECT_NEAR(estimator.last().bias_dps.z(), -0.45 - 0.004 * 10.0, 0.005);
+  EXPECT_LT(std::abs(error_deg), std::abs(error_at_stop_deg) + 1.0) << "the stop held the heading";
+  EXPECT_LT(std::abs(error_deg), 3.0 * estimator.last().heading_sigma_deg);
+}

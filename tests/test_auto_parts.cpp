@@ -8,6 +8,7 @@
 
 #include "core/axis_filter.hpp"
 #include "core/bias_history.hpp"
+#include "core/level_slope.hpp"
 #include "core/noise_density.hpp"
 #include "core/scale_factor.hpp"
 #include "core/temperature_model.hpp"
@@ -132,6 +133,53 @@ TEST(TemperatureModel, OldPointsFade) {
   // A day later the chip's slope has changed; new points soon outweigh the old.
   for (int i = 0; i < 100; ++i) model.add(86400.0 + i * 10.0, 20.0 + (i % 10), -0.001 * (i % 10), 1e-6);
   EXPECT_NEAR(model.slope_dps_per_c(25.0), -0.001, 1e-4);
+}
+
+TEST(LevelSlope, AConstantCreepCancelsAndTheSlopeSigmaIsHonest) {
+  // 60 segments of 3 s while the chip warms from 24 to 28 C: the level is a 0.2 dps creep on
+  // top of a bias that moves -0.004 dps/C, each mean with the white noise of N = 0.01
+  // dps/sqrt(Hz). The creep is the same in every segment, so the slope is the bias's; over many
+  // such runs the slope lies within two of its own sigmas about 95 % of the time.
+  constexpr double kN = 0.01, kSegmentS = 3.0, kSlope = -0.004;
+  const Vec3 white = Vec3::Constant(kN * kN);
+  std::mt19937_64 rng(12);
+  std::normal_distribution<double> noise(0.0, kN / std::sqrt(kSegmentS));
+  int within = 0;
+  constexpr int kRuns = 400;
+  for (int run = 0; run < kRuns; ++run) {
+    LevelSlope slope;
+    for (int i = 0; i < 60; ++i) {
+      const double temp = 24.0 + 4.0 * i / 59.0;
+      const double level = 0.2 + (-0.45 + kSlope * (temp - 25.0)) + noise(rng);
+      slope.add(kSegmentS, temp, Vec3(0.1 + noise(rng), -0.2 + noise(rng), level));
+    }
+    LevelSlope::Fit fit;
+    ASSERT_TRUE(slope.fit(white, fit));
+    EXPECT_NEAR(fit.mean_temp_c, 26.0, 1e-9);
+    EXPECT_NEAR(fit.slope_dps_per_c.z(), kSlope, 6.0 * std::sqrt(fit.slope_variance.z()));
+    if (std::abs(fit.slope_dps_per_c.z() - kSlope) <= 2.0 * std::sqrt(fit.slope_variance.z())) ++within;
+  }
+  EXPECT_GT(within, 0.91 * kRuns);
+  EXPECT_LT(within, 0.99 * kRuns);
+}
+
+TEST(LevelSlope, NoSlopeFromTooFewSegmentsOrOneTemperature) {
+  const Vec3 white = Vec3::Constant(1e-4);
+  LevelSlope::Fit fit;
+  LevelSlope two;
+  two.add(3.0, 20.0, Vec3::Zero());
+  two.add(3.0, 25.0, Vec3::Ones());
+  EXPECT_FALSE(two.fit(white, fit)) << "two points fit any line exactly";
+  LevelSlope flat;
+  for (int i = 0; i < 10; ++i) flat.add(3.0, 30.0, Vec3::Constant(0.01 * i));
+  EXPECT_FALSE(flat.fit(white, fit)) << "one temperature says nothing about a slope";
+  LevelSlope unread;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int i = 0; i < 10; ++i) unread.add(3.0, 20.0 + i, Vec3::Constant(0.001 * i));
+  unread.add(3.0, nan, Vec3::Constant(50.0));  // no temperature read: left out, not a point
+  unread.add(3.0, 25.0, Vec3(nan, 0.0, 0.0));
+  ASSERT_TRUE(unread.fit(white, fit));
+  EXPECT_NEAR(fit.slope_dps_per_c.z(), 0.001, 1e-12);
 }
 
 TEST(NoiseDensity, BlockMeansRecoverWhiteNoiseDensityThroughALowPass) {
