@@ -33,10 +33,14 @@ constexpr double kPlausibleSigmas = 5.0;
 constexpr double kZeroRateChangeDpsPerC = 0.04;
 constexpr double kPlausibleFloorDps = 0.005;
 constexpr double kModelMisfitDpsPerC = 0.003;  // a linear fit to a curved bias, per C of change
-// A quiet run's slope against temperature this many sigmas (its own, the model's and the
-// misfit) from the model's refutes the model. Forgetting a model costs little (it is learned
-// again from the next stops), keeping a wrong one a stop rejected for its whole length.
-constexpr double kRefuteSigmas = 3.0;
+// A quiet run's slope against temperature this many sigmas (its own, the model's and a floor)
+// from the model's refutes the model. Forgetting a model costs little (it is learned again
+// from the next stops), keeping a wrong one a stop rejected for its whole length; but the test
+// is asked again on every segment of a long run, hence 4 and not 3 (at 3, a creep refuted a
+// right model on random world 21). The floor: the model's slope sigma takes every accepted segment as independent,
+// and a curved bias's slope differs from a line's. Picked from 0.003/0.0015/0.001 on the sweep.
+constexpr double kRefuteSigmas = 4.0;
+constexpr double kSlopeFloorDpsPerC = 0.001;
 constexpr double kUnconditionalRecoveryFactor = 10.0;
 constexpr double kMostlyRejecting = 0.8;
 constexpr double kFewVerdicts = 5.0;
@@ -544,7 +548,7 @@ void AutoEstimator::forget_models_the_run_refutes() {
     if (!model.ready()) continue;
     const double gap = fit.slope_dps_per_c[axis] - model.slope_dps_per_c(fit.mean_temp_c);
     const double sd =
-        std::sqrt(fit.slope_variance[axis] + model.slope_variance() + kModelMisfitDpsPerC * kModelMisfitDpsPerC);
+        std::sqrt(fit.slope_variance[axis] + model.slope_variance() + kSlopeFloorDpsPerC * kSlopeFloorDpsPerC);
     if (std::abs(gap) <= kRefuteSigmas * sd) continue;
     models_.forget_temperature_model(axis);
     ++refuted_models_;
