@@ -124,6 +124,7 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
                   {"bias_restarts_refused", std::to_string(d.refused_recoveries)},
                   {"returns_mended", std::to_string(d.returns_mended)},
                   {"temperature_model", model},
+                  {"temperature_models_refuted", std::to_string(d.refuted_models)},
                   {"motion_hint", hint_name(d.motion_hint)},
                   {"hint_conflicts", std::to_string(d.hint_conflicts)},
                   {"motion_messages_accepted", std::to_string(inbound.motion_accepted)},

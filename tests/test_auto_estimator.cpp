@@ -730,6 +730,10 @@ TEST(AutoEstimator, AStopWhoseLevelFollowsAnotherSlopeRefutesAWrongTemperatureMo
                std::to_string(error_deg) + " deg, sigma " + std::to_string(estimator.last().heading_sigma_deg));
   EXPECT_GT(std::abs(error_at_stop_deg), 3.0) << "the wrong model cost heading on the drive";
   EXPECT_EQ(automatic.refuted_temperature_models(), 1u);
+  EXPECT_EQ(estimator.diagnostics().refuted_models, 1u);
+  const TemperatureModelState relearned = estimator.diagnostics().temperature[2];
+  ASSERT_TRUE(relearned.ready) << "learned again from the stop after the restart, which warmed 4 C more";
+  EXPECT_NEAR(relearned.slope_dps_per_c, -0.004, 0.002);
   EXPECT_EQ(automatic.bias_recoveries(), 1u);
   EXPECT_NEAR(estimator.last().bias_dps.z(), -0.45 - 0.004 * 10.0, 0.005);
   EXPECT_LT(std::abs(error_deg), std::abs(error_at_stop_deg) + 1.0) << "the stop held the heading";

@@ -214,7 +214,8 @@ TEST(RosDiagnostics, LevelsFollowFaultsAndSigma) {
   learned.scale_z_sigma = 0.002;
   entries = builder.build(e, learned, report, {});
   EXPECT_TRUE(has_key(entries[1], "scale_z") && has_key(entries[1], "scale_z_sigma"));
-  for (const char* key : {"bias_restarts", "bias_restarts_taken_back", "bias_restarts_refused", "returns_mended"})
+  for (const char* key : {"bias_restarts", "bias_restarts_taken_back", "bias_restarts_refused", "returns_mended",
+                          "temperature_models_refuted"})
     EXPECT_TRUE(has_key(entries[1], key)) << key;
 }
 
