@@ -558,11 +558,8 @@ void AutoEstimator::forget_models_the_run_refutes() {
     // to the bias's: that would widen the mean test for the segments to come and let creeps in
     // (tried: four random worlds' max excess grew tenfold). The restart measures the bias anew.
     const auto i = static_cast<std::size_t>(axis);
-    if (!std::isfinite(temp_at_bias_c_[i])) continue;
-    const double change_c = previous_temp_c_ - temp_at_bias_c_[i];
-    const double integral_c_s =
-        temp_change_integral_c_s_[i] + change_c * std::max(0.0, previous_t_s_ - temp_change_t_s_);
-    const double angle_sd_deg = gap * integral_c_s;
+    const double angle_sd_deg = gap * (model_exposure_c_s_[i] + temp_change_integral_now(i));
+    model_exposure_c_s_[i] = 0.0;
     filters_[i].widen_angle(angle_sd_deg * angle_sd_deg);
     quiet_.filters_at_start[i].covariance(0, 0) += angle_sd_deg * angle_sd_deg;
   }
@@ -767,7 +764,20 @@ HEADINGD_HOT void AutoEstimator::follow_temperature(double temp_c, double t_s) {
   temp_change_t_s_ = t_s;
 }
 
+double AutoEstimator::temp_change_integral_now(std::size_t axis) const {
+  if (!std::isfinite(temp_at_bias_c_[axis]) || !std::isfinite(previous_temp_c_)) return 0.0;
+  const double change_c = previous_temp_c_ - temp_at_bias_c_[axis];
+  return temp_change_integral_c_s_[axis] + change_c * std::max(0.0, previous_t_s_ - temp_change_t_s_);
+}
+
 void AutoEstimator::bias_measured_at(double temp_c) {
+  // A measurement puts the bias right, not the angle a wrong model slope cost meanwhile.
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    if (!settings_.use_temperature || !models_.temperature_model(static_cast<int>(axis)).ready())
+      model_exposure_c_s_[axis] = 0.0;
+    else
+      model_exposure_c_s_[axis] += temp_change_integral_now(axis);
+  }
   temp_at_bias_c_.fill(temp_c);
   temp_change_integral_c_s_.fill(0.0);
   temp_change_t_s_ = previous_t_s_;

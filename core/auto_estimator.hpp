@@ -151,6 +151,10 @@ class AutoEstimator {
                                         std::numeric_limits<double>::quiet_NaN()};
   std::array<double, 3> temp_change_integral_c_s_{};  // of (T - T at the measurement) dt
   double temp_change_t_s_ = 0.0;                      // of the last temperature step followed
+  // The integral above summed over the spans between measurements while a temperature model
+  // was in use: what a wrong model slope has cost the angle per dps/C (refutation).
+  std::array<double, 3> model_exposure_c_s_{};
+  double temp_change_integral_now(std::size_t axis) const;
   // Adds the variance of a possibly wrong still/moving verdict (see AutoSettings).
   void add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted);
   // The probability that a segment passing the range gate is a slow turn, learned from the
