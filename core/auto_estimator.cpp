@@ -37,8 +37,9 @@ constexpr double kModelMisfitDpsPerC = 0.003;  // a linear fit to a curved bias,
 // from the model's refutes the model. Forgetting a model costs little (it is learned again
 // from the next stops), keeping a wrong one a stop rejected for its whole length; but the test
 // is asked again on every segment of a long run, hence 4 and not 3 (at 3, a creep refuted a
-// right model on random world 21). The floor: the model's slope sigma takes every accepted segment as independent,
-// and a curved bias's slope differs from a line's. Picked from 0.003/0.0015/0.001 on the sweep.
+// right model on random world 21). The floor: the model's slope sigma takes every accepted
+// segment as independent, and a curved bias's slope differs from a line's. Picked from
+// 0.003/0.0015/0.001 on the sweep.
 constexpr double kRefuteSigmas = 4.0;
 constexpr double kSlopeFloorDpsPerC = 0.001;
 constexpr double kUnconditionalRecoveryFactor = 10.0;
@@ -552,9 +553,10 @@ void AutoEstimator::forget_models_the_run_refutes() {
     if (std::abs(gap) <= kRefuteSigmas * sd) continue;
     models_.forget_temperature_model(axis);
     ++refuted_models_;
-    // The model's slope was off by about `gap` since the bias was last measured (at T0), so the
-    // angle by gap times the integral of (T - T0) dt, which the slope's variance never covered:
-    // added to the angle's variance, now and at the run's start (where a restart begins). Not
+    // The model's slope was off by about `gap` while it was in use, so the angle by gap times the
+    // integral of (T - T0) dt since each bias measurement (at T0), summed over the spans between
+    // them (model_exposure_c_s_), which the slope's variance never covered: added to the angle's
+    // variance, now and at the run's start (where a restart begins). Not
     // to the bias's: that would widen the mean test for the segments to come and let creeps in
     // (tried: four random worlds' max excess grew tenfold). The restart measures the bias anew.
     const auto i = static_cast<std::size_t>(axis);
