@@ -28,6 +28,24 @@ sed -n '/<!-- ros2-topics/,/<!-- \/ros2-topics -->/p' "$root/README.md" | grep '
   sort >"$dir/readme"
 [ "$(wc -l <"$dir/readme")" -ge 9 ] || fail "the README table has $(wc -l <"$dir/readme") rows"
 
+# wait_bounded PID SECONDS WHAT: wait for PID; past SECONDS print its threads' stacks (so that a
+# stall says where it stalled) and kill it. A stall is reported, and the step tried once more.
+wait_bounded() {
+  local pid=$1 limit=$2 what=$3 tenths=0
+  while kill -0 "$pid" 2>/dev/null; do
+    if [ "$tenths" -ge $((limit * 10)) ]; then
+      echo "STALL: $what still running after ${limit} s; its threads:"
+      gdb -q -batch -p "$pid" -ex 'thread apply all bt 15' 2>/dev/null | grep -E '^(Thread|#)' | head -120
+      kill -9 "$pid" 2>/dev/null
+      wait "$pid" 2>/dev/null
+      return 124
+    fi
+    sleep 0.1
+    tenths=$((tenths + 1))
+  done
+  wait "$pid"
+}
+
 discover() { # discover NAME [config lines...]: our endpoints as the peer saw them
   local name="$1"
   shift
@@ -35,9 +53,15 @@ discover() { # discover NAME [config lines...]: our endpoints as the peer saw th
   for line in "$@"; do printf '%s\n' "$line" >>"$dir/$name.toml"; done
   "$peer" listen $domain 9 >"$dir/$name.peer" 2>&1 &
   local peer_pid=$!
+  # 10 s for the peer, 6 s of replay at 10x: 40 s is a stall, not a slow machine.
   "$headingd" replay "$root/tests/data/agv-1min/imu.csv" --speed 10 --wait-subscribers 10 \
-    -c "$dir/$name.toml" -o /dev/null 2>"$dir/$name.err" || fail "replay: $(tail -3 "$dir/$name.err")"
-  wait $peer_pid
+    -c "$dir/$name.toml" -o /dev/null 2>"$dir/$name.err" &
+  local replay_pid=$!
+  wait_bounded $replay_pid 40 "headingd replay ($name)"
+  local rc=$?
+  wait_bounded $peer_pid 20 "ros_peer listen ($name)" || return 1
+  [ $rc -ne 124 ] || return 1
+  [ $rc -eq 0 ] || fail "replay: $(tail -3 "$dir/$name.err")"
   local prefix
   prefix=$(grep -m1 '^discovery' "$dir/$name.peer" | sed -n 's/.*gid=\([0-9a-f]\{24\}\).*/\1/p')
   [ -n "$prefix" ] || fail "$name: no ros_discovery_info from headingd"
@@ -46,7 +70,8 @@ discover() { # discover NAME [config lines...]: our endpoints as the peer saw th
       for (i = 2; i <= 5; ++i) sub(/^[a-z]*=/, "", $i); print $1, $2, $3, $4, $5 }' | sort >"$dir/$name.ours"
 }
 
-discover plain '[ros.stop_hint]' 'topic = "odom"'
+discover plain '[ros.stop_hint]' 'topic = "odom"' || discover plain '[ros.stop_hint]' 'topic = "odom"' ||
+  fail "plain: stalled twice"
 if ! diff "$dir/readme" "$dir/plain.ours" >"$dir/diff"; then
   echo "README (<) against what headingd offers (>):"
   cat "$dir/diff"
@@ -54,7 +79,8 @@ if ! diff "$dir/readme" "$dir/plain.ours" >"$dir/diff"; then
 fi
 echo "README table: all $(wc -l <"$dir/readme") rows (topic, type, direction, reliability, durability) match what a Cyclone peer discovered, and nothing else is offered"
 
-discover spaced '[ros]' 'namespace = "/robot1"' '[ros.stop_hint]' 'topic = "odom"'
+discover spaced '[ros]' 'namespace = "/robot1"' '[ros.stop_hint]' 'topic = "odom"' ||
+  discover spaced '[ros]' 'namespace = "/robot1"' '[ros.stop_hint]' 'topic = "odom"' || fail "spaced: stalled twice"
 for want in "publication rt/robot1/imu/data" "publication rt/robot1/imu/temperature" "publication rt/diagnostics" \
   "subscription rt/robot1/odom"; do
   grep -q "^$want " "$dir/spaced.ours" || fail "namespace /robot1: no $want"
