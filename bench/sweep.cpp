@@ -79,7 +79,9 @@ core::EstimatorSettings settings_for(Method m) {
   return s;
 }
 
-SeedResult run_seed(std::uint64_t seed, double hours) {
+// `skip`: samples the simulator runs before the estimators see the first one (the world is the
+// same; only where the 3 s segment grid falls in it moves).
+SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip) {
   drivers::GyroSimulator sim(*drivers::build_scenario("random", seed, hours), seed);
   const drivers::NoiseModel& noise = sim.scenario().noise;
   SeedResult r;
@@ -93,10 +95,13 @@ SeedResult run_seed(std::uint64_t seed, double hours) {
   const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(noise.rate_hz / 10.0)));
   core::Sample sample;
   drivers::TruthPoint truth;
-  double floor_deg = 0.0, previous_t = 0.0, tracker_deg = 0.0;
+  double floor_deg = 0.0, previous_t = 0.0, tracker_deg = 0.0, truth_at_start_deg = 0.0;
   std::uint64_t within = 0, outputs = 0;
+  for (std::uint64_t k = 0; k < skip && !sim.done(); ++k) sim.step(sample, truth);
+  if (skip > 0) truth_at_start_deg = truth.heading_deg;
   for (std::uint64_t i = 0; !sim.done(); ++i) {
     sim.step(sample, truth);
+    truth.heading_deg -= truth_at_start_deg;
     const double dt_s = i == 0 ? 0.0 : sample.t_s - previous_t;
     previous_t = sample.t_s;
     if (truth.moving) floor_deg += (sample.rate_dps.z() - truth.bias_z_dps) * dt_s;
@@ -130,12 +135,14 @@ int main(int argc, char** argv) {
   const double hours = argc > 2 ? std::strtod(argv[2], nullptr) : 2.0;
   // Another range than 1..SEEDS: seeds the estimator's choices were not judged on (held out).
   const long first_seed = argc > 3 ? std::strtol(argv[3], nullptr, 10) : 1;
-  if (seeds < 1 || !(hours > 0.0) || first_seed < 1) {
-    std::fprintf(stderr, "usage: sweep [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)]\n");
+  // The estimators start this many samples into each world (bench/sweep_phase.sh).
+  const long skip = argc > 4 ? std::strtol(argv[4], nullptr, 10) : 0;
+  if (seeds < 1 || !(hours > 0.0) || first_seed < 1 || skip < 0) {
+    std::fprintf(stderr, "usage: sweep [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)] [SKIP_SAMPLES (0)]\n");
     return 64;
   }
-  const std::vector<SeedResult> results =
-      bench::run_seeds<SeedResult>(seeds, first_seed, [&](std::uint64_t seed) { return run_seed(seed, hours); });
+  const std::vector<SeedResult> results = bench::run_seeds<SeedResult>(
+      seeds, first_seed, [&](std::uint64_t seed) { return run_seed(seed, hours, static_cast<std::uint64_t>(skip)); });
 
   std::printf("%5s %5s %9s %8s | %21s | %9s %9s %9s | %7s\n", "seed", "Hz", "dps/C z", "floor", "auto max / RMS",
               "notemp", "C", "fusion", "in 2sig");
