@@ -30,6 +30,8 @@ sed -n '/<!-- ros2-topics/,/<!-- \/ros2-topics -->/p' "$root/README.md" | grep '
 
 # wait_bounded PID SECONDS WHAT: wait for PID; past SECONDS print its threads' stacks (so that a
 # stall says where it stalled) and kill it. A stall is reported, and the step tried once more.
+# (One CI run hung here until ctest's timeout. Candidates, neither confirmed: a participant's
+# teardown in Cyclone DDS 0.10, cyclonedds#1916, or in Fast DDS 2.9, Fast-DDS#4026.)
 wait_bounded() {
   local pid=$1 limit=$2 what=$3 tenths=0
   while kill -0 "$pid" 2>/dev/null; do
@@ -59,7 +61,11 @@ discover() { # discover NAME [config lines...]: our endpoints as the peer saw th
   local replay_pid=$!
   wait_bounded $replay_pid 40 "headingd replay ($name)"
   local rc=$?
-  wait_bounded $peer_pid 20 "ros_peer listen ($name)" || return 1
+  if ! wait_bounded $peer_pid 20 "ros_peer listen ($name)"; then
+    # Stalled after its listen ended (in the DDS teardown): its output is whole.
+    grep -q '^end ' "$dir/$name.peer" || return 1
+    echo "note: ros_peer ($name) hung after its listen had ended; its output is complete and used"
+  fi
   [ $rc -ne 124 ] || return 1
   [ $rc -eq 0 ] || fail "replay: $(tail -3 "$dir/$name.err")"
   local prefix
