@@ -50,6 +50,7 @@ constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
 // square of how long it has held still, from even at the wait (see undecided_offset_deg).
 constexpr double kCreepOddsPower = 2.0;
 constexpr double kVerdictMemory = 0.995;
+constexpr std::size_t kVerdictRecords = 1024;  // 0.995^1024: under 1 % of a verdict's weight is left
 // A start-up segment whose block means scatter this many times more than its samples' white
 // noise allows is motion; after this many of them (5 minutes) the next is the start-up whatever
 // it looks like (a platform vibrating slowly where it stands would otherwise never start). Not
@@ -336,7 +337,7 @@ SegmentVerdict AutoEstimator::close_segment() {
   verdict.accepted = hint_ != MotionHint::Moving && (mean_ok || (hint_ == MotionHint::Stopped && !hint_conflict));
   const double deviation_z = mean.z() - filters_[2].bias_dps();
   const double sd_z = std::sqrt(filters_[2].bias_variance() + r.z());
-  count_verdict(verdict.accepted);
+  count_verdict(verdict.accepted, mean, previous_.predicted_dps);
   previous_accepted_ = verdict.accepted;
   if (verdict.accepted) {
     reinstate_outlier();
@@ -364,9 +365,30 @@ double AutoEstimator::creep_prior() const {
   return (rejected_weight_ + kPriorSegments * settings_.creep_prior) / (judged_weight_ + kPriorSegments);
 }
 
-void AutoEstimator::count_verdict(bool accepted) {
+void AutoEstimator::count_verdict(bool accepted, const Vec3& mean_dps, const Vec3& predicted_dps) {
   judged_weight_ = kVerdictMemory * judged_weight_ + 1.0;
   rejected_weight_ = kVerdictMemory * rejected_weight_ + (accepted ? 0.0 : 1.0);
+  if (verdicts_.size() < kVerdictRecords) verdicts_.resize(kVerdictRecords);
+  verdicts_[verdicts_counted_ % kVerdictRecords] = {mean_dps, predicted_dps, !accepted};
+  ++verdicts_counted_;
+}
+
+double AutoEstimator::rejections_at_level(const Vec3& level_dps, std::uint64_t first) const {
+  // Nearer in the white noise's own scale on each axis: a vibrating axis counts for little.
+  const Vec3 white = models_.white_dps2_s().cwiseMax(std::numeric_limits<double>::min());
+  const std::uint64_t oldest = verdicts_counted_ > kVerdictRecords ? verdicts_counted_ - kVerdictRecords : 0;
+  double weight = 0.0;
+  double decay = 1.0;
+  for (std::uint64_t n = first; n > oldest;) {
+    --n;
+    decay *= kVerdictMemory;
+    const VerdictRecord& v = verdicts_[n % kVerdictRecords];
+    if (!v.rejected) continue;
+    const double to_level = ((v.mean_dps - level_dps).cwiseAbs2().array() / white.array()).sum();
+    const double to_bias = ((v.mean_dps - v.predicted_dps).cwiseAbs2().array() / white.array()).sum();
+    if (to_level < to_bias) weight += decay;
+  }
+  return weight;
 }
 
 double AutoEstimator::turning_probability(double deviation_dps, double sd_dps) const {
@@ -510,8 +532,8 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   if (!agrees) {
     quiet_ = QuietRun{};
     // The verdicts before this segment: the run's own rejections must not vouch for it.
-    quiet_.judged_before = judged_weight_ - 1.0;
-    quiet_.rejected_before = rejected_weight_ - 1.0;
+    quiet_.accepted_before = judged_weight_ - rejected_weight_;
+    quiet_.first_verdict = verdicts_counted_ - 1;
     quiet_.filters_at_start = segment_.filters_at_start;
     quiet_.attitude_at_start = segment_.attitude_at_start;
     quiet_.history_at_start = segment_.history_at_start;
@@ -526,14 +548,19 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   // Before a stop after motion has confirmed the bias, the run may be the stop and the bias
   // the turn (a start-up while turning); after, only a level the bias could have drifted to.
   // A run that goes on for many times the wait is no creep any more, whatever its level.
-  // Nor when most segments lately were rejected: a bias (or temperature model) gone wrong
-  // rejects the stops too, and refusing would lock it in.
-  // (Counted before the run began: a creep held for minutes rejects its own segments.)
-  const bool mostly_rejecting = quiet_.rejected_before > kMostlyRejecting * quiet_.judged_before;
+  // Nor when most segments lately were rejected at the run's level: a bias (or temperature
+  // model) gone wrong rejects the stops, and refusing would lock it in. Counted before the run
+  // began (a creep held for minutes rejects its own segments), and only the rejections nearer
+  // the run's level than the bias they were judged against, beside the accepted segments:
+  // slow motion at other levels says nothing about the bias (counted, it restarted the bias
+  // on slow turns after a short start-up; random worlds 24, 91, 173 and held-out 289, 378, 379).
+  const double rejected_here = rejections_at_level(quiet_.mean_dps(), quiet_.first_verdict);
+  const double judged_here = rejected_here + quiet_.accepted_before;
+  const bool mostly_rejecting = rejected_here > kMostlyRejecting * judged_here && judged_here >= kFewVerdicts;
   // A recovery of a bias no stop after motion has confirmed is a choice between two quiet
   // levels that only a later stop can make (see Replaced); one made because most of many
-  // verdicts were rejections is not (a handful of them says nothing).
-  recovery_ambiguous_ = !bias_confirmed_ && !(mostly_rejecting && quiet_.judged_before >= kFewVerdicts);
+  // verdicts were rejections at the run's level is not (a handful of them says nothing).
+  recovery_ambiguous_ = !bias_confirmed_ && !mostly_rejecting;
   if (!bias_confirmed_ || mostly_rejecting || quiet_run_bias_plausible() ||
       quiet_.duration_s >= kUnconditionalRecoveryFactor * settings_.recover_after_s)
     recover_bias();
@@ -646,8 +673,11 @@ bool AutoEstimator::take_back_recovery(SegmentEvidence& evidence, Judgement& jud
   const double start_yaw_change_deg = segment_.filters_at_start[2].angle_deg - start_angle_before_deg;
   segment_.attitude_at_start =
       Eigen::AngleAxisd(deg_to_rad(start_yaw_change_deg), Vec3::UnitZ()) * segment_.attitude_at_start;
-  // Whatever was judged since was judged against the other level.
+  // Whatever was judged since was judged against the other level, and what it taught the
+  // temperature models goes with it: a slope between the two levels is a creep's rate over a
+  // few degrees (random world 149: -0.2 dps/C, the bias carried a degree per second away).
   commit_last_accepted();
+  models_.restore_temperature_models(replaced_.models_kept);
   outlier_ = Outlier{};
   previous_.usable = false;
   replaced_.pending = false;
@@ -720,6 +750,7 @@ void AutoEstimator::recover_bias() {
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * quiet_.attitude_at_start);
   history_.measured(replaced_.at_t_s, mean.z(), r.z(), filters_[2].angle_deg());
   return_correction_deg_ = returned_deg;
+  replaced_.models_kept = models_.temperature_models();
   models_.relearn_after_recovery(quiet_.sigma_dps);
   if (bias_from_startup_only_) models_.restart_noise_if_inflated(segment_.stats, segment_.blocks, segment_.duration_s);
   last_still_t_s_ = segment_.start_t_s + segment_.duration_s;

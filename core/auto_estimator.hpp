@@ -163,7 +163,21 @@ class AutoEstimator {
   // Posterior probability of a slow turn for a segment mean `deviation_dps` from the predicted
   // bias, with the standard deviation of that difference if still.
   double turning_probability(double deviation_dps, double sd_dps) const;
-  void count_verdict(bool accepted);
+  // `mean_dps`: the segment's; `predicted_dps`: the bias it was judged against.
+  void count_verdict(bool accepted, const Vec3& mean_dps, const Vec3& predicted_dps);
+  // The latest verdicts, kept so that a quiet run can ask which of the rejections before it lay
+  // at its own level (stops a wrong bias turned away) and not elsewhere (slow motion, which says
+  // nothing about the bias): a ring of kVerdictRecords, numbered by verdicts_counted_.
+  struct VerdictRecord {
+    Vec3 mean_dps = Vec3::Zero();
+    Vec3 predicted_dps = Vec3::Zero();
+    bool rejected = false;
+  };
+  std::vector<VerdictRecord> verdicts_;
+  std::uint64_t verdicts_counted_ = 0;
+  // The decayed weight (as judged_weight_ counts) of the rejections before verdict `first` whose
+  // mean lay nearer `level_dps` than the bias they were judged against.
+  double rejections_at_level(const Vec3& level_dps, std::uint64_t first) const;
   // A rejected segment inside a stop, until the next one is judged: the filter states at its
   // end judged moving and judged still, and the probability that it was still (soft_verdicts).
   struct Outlier {
@@ -204,8 +218,9 @@ class AutoEstimator {
     Vec3 sum_sq_dps2_s = Vec3::Zero();  // sum of squared segment mean times length
     std::array<AxisFilter::State, 3> filters_at_start{};
     Eigen::Quaterniond attitude_at_start = Eigen::Quaterniond::Identity();
-    Vec3 sigma_dps = Vec3::Zero();                      // per-sample sigma of its latest segment
-    double judged_before = 0.0, rejected_before = 0.0;  // verdict weights before it began
+    Vec3 sigma_dps = Vec3::Zero();    // per-sample sigma of its latest segment
+    double accepted_before = 0.0;     // the decayed weight of accepted verdicts before it began
+    std::uint64_t first_verdict = 0;  // the number of its first segment's verdict
     BiasHistory::Mark history_at_start;
     LevelSlope slope;  // its level against temperature
     Vec3 mean_dps() const { return sum_dps_s / duration_s; }
@@ -244,9 +259,10 @@ class AutoEstimator {
     double at_t_s = 0.0;
     std::array<AxisFilter::State, 3> as_kept{};
     std::array<AxisFilter::State, 3> as_restarted{};
-    bool creep_sized = false;  // the z level changed by no more than a creep's rate
-    double run_s = 0.0;        // the quiet run's length at the recovery
-    double still_s = 0.0;      // its length with the still time after the recovery, until motion
+    bool creep_sized = false;                     // the z level changed by no more than a creep's rate
+    double run_s = 0.0;                           // the quiet run's length at the recovery
+    double still_s = 0.0;                         // its length with the still time after the recovery, until motion
+    SensorModels::TemperatureModels models_kept;  // the temperature models the recovery started over
   };
   Replaced replaced_;
   // The heading shown while a creep-sized recovery is undecided leans towards the kept level by

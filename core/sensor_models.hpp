@@ -100,6 +100,10 @@ class SensorModels {
   const Vec3& white_dps2_s() const { return white_dps2_s_; }  // N^2 per axis
   Vec3 noise_density_dps_rt_hz() const { return white_dps2_s_.cwiseSqrt(); }
   const TemperatureModel& temperature_model(int axis) const { return temperature_[static_cast<std::size_t>(axis)]; }
+  using TemperatureModels = std::array<TemperatureModel, 3>;
+  const TemperatureModels& temperature_models() const { return temperature_; }
+  // A restart taken back: the models as they were before it, without what the other level taught.
+  void restore_temperature_models(const TemperatureModels& models) { temperature_ = models; }
 
  private:
   BiasSettings segments_;
