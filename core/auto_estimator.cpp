@@ -675,7 +675,7 @@ bool AutoEstimator::take_back_recovery(SegmentEvidence& evidence, Judgement& jud
       Eigen::AngleAxisd(deg_to_rad(start_yaw_change_deg), Vec3::UnitZ()) * segment_.attitude_at_start;
   // Whatever was judged since was judged against the other level, and what it taught the
   // temperature models goes with it: a slope between the two levels is a creep's rate over a
-  // few degrees (random world 149: -0.2 dps/C, the bias carried a degree per second away).
+  // few degrees (random world 149: about -0.2 dps/C over 4 C, the bias carried 0.9 dps away).
   commit_last_accepted();
   models_.restore_temperature_models(replaced_.models_kept);
   outlier_ = Outlier{};
