@@ -19,6 +19,11 @@ void print_estimator(const core::Estimator& estimator) {
                  n.z());
     std::fprintf(stderr, "  creep        %llu accepted segments taken back when the next one showed a creep\n",
                  static_cast<unsigned long long>(d.retracted_segments));
+    if (d.rate_changed_segments > 0)
+      std::fprintf(stderr,
+                   "  changing     %llu segments rejected because the rate changed within them (motion starting or "
+                   "stopping)\n",
+                   static_cast<unsigned long long>(d.rate_changed_segments));
     if (d.bias_recoveries > 0)
       std::fprintf(stderr,
                    "  recovered    the bias started again %llu times from a long quiet period it could not "

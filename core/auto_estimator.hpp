@@ -86,6 +86,7 @@ class AutoEstimator {
   // could not have drifted to (a creep or a slow curve held for minutes): no recovery.
   std::uint64_t refused_recoveries() const { return refused_recoveries_; }
   std::uint64_t refuted_temperature_models() const { return refuted_models_; }
+  std::uint64_t rate_changed_segments() const { return rate_changed_segments_; }
   // Recoveries taken back: a stop agreed with the level the recovery had replaced, and not with
   // its own (the quiet run was a creep after all).
   std::uint64_t recoveries_taken_back() const { return taken_back_; }
@@ -127,6 +128,8 @@ class AutoEstimator {
   SegmentVerdict close_startup();
   // The start-up segment's block means scatter like motion, not like a still gyro's noise.
   bool startup_looks_moving() const;
+  // Whether the segment's block means move with time beyond their noise (kRateChangeSigmas).
+  bool rate_changed_within_segment() const;
   SegmentVerdict pass_moving_startup();
   int moving_startups_ = 0;  // start-up segments passed over as motion
   // Every sample while the start-up lasts (at most kMaxMovingStartups + 1 segments), and the
@@ -247,6 +250,7 @@ class AutoEstimator {
   // slope sd makes the level implausible), and nothing else could ever correct it.
   void forget_models_the_run_refutes();
   std::uint64_t refuted_models_ = 0;
+  std::uint64_t rate_changed_segments_ = 0;  // rejected: the rate changed within them
   void recover_bias();
   QuietRun quiet_;
   // What a recovery of a bias no stop had confirmed replaced, until a stop decides between the

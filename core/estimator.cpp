@@ -170,6 +170,7 @@ Diagnostics Estimator::diagnostics() const {
     d.bias_recoveries = a->bias_recoveries();
     d.refused_recoveries = a->refused_recoveries();
     d.refuted_models = a->refuted_temperature_models();
+    d.rate_changed_segments = a->rate_changed_segments();
     d.recoveries_taken_back = a->recoveries_taken_back();
     d.returns_mended = a->returns_mended();
     d.last_return_correction_deg = a->last_return_correction_deg();

@@ -9,10 +9,12 @@ void BlockMeans::reset() {
   blocks_ = 0;
   mean_.setZero();
   m2_.setZero();
+  index_weighted_.setZero();
 }
 
 void BlockMeans::close_block() {
   const Vec3 block_mean = sum_ / samples_;
+  index_weighted_ += static_cast<double>(blocks_) * block_mean;
   ++blocks_;
   const Vec3 delta = block_mean - mean_;
   mean_ += delta / blocks_;
@@ -20,6 +22,17 @@ void BlockMeans::close_block() {
   sum_.setZero();
   samples_ = 0;
   filled_s_ = 0.0;
+}
+
+double BlockMeans::index_spread() const {
+  const double n = blocks_;
+  return n * (n * n - 1.0) / 12.0;
+}
+
+Vec3 BlockMeans::trend_per_block() const {
+  if (blocks_ < 3) return Vec3::Zero();
+  const double mean_index = 0.5 * (blocks_ - 1.0);
+  return (index_weighted_ - mean_index * static_cast<double>(blocks_) * mean_) / index_spread();
 }
 
 void NoiseDensity::add(const BlockMeans& blocks) {

@@ -40,6 +40,11 @@ class BlockMeans {
   // Sum of squared deviations of the block means from their mean, per axis.
   const Vec3& squares() const { return m2_; }
   double block_s() const { return block_s_; }
+  // Least-squares slope of the block means against their index, per axis (dps per block); zero
+  // below three blocks. Its variance is a block mean's variance over index_spread(), the sum of
+  // (k - mean k)^2 over the blocks.
+  Vec3 trend_per_block() const;
+  double index_spread() const;
 
  private:
   void close_block();
@@ -51,6 +56,7 @@ class BlockMeans {
   std::uint32_t blocks_ = 0;
   Vec3 mean_ = Vec3::Zero();
   Vec3 m2_ = Vec3::Zero();
+  Vec3 index_weighted_ = Vec3::Zero();  // sum over blocks of k * block mean, k from 0
 };
 
 class NoiseDensity {

@@ -119,6 +119,7 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
                   {"last_still_age_s", number(still_age_s)},
                   {"accepted_segments", std::to_string(d.accepted_segments)},
                   {"rejected_segments", std::to_string(d.rejected_segments)},
+                  {"rejected_rate_changing", std::to_string(d.rate_changed_segments)},
                   {"bias_restarts", std::to_string(d.bias_recoveries)},
                   {"bias_restarts_taken_back", std::to_string(d.recoveries_taken_back)},
                   {"bias_restarts_refused", std::to_string(d.refused_recoveries)},

@@ -467,6 +467,26 @@ TEST(AutoEstimator, ATakenBackRestartTakesWhatItTaughtTheTemperatureModelWithIt)
   EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
 }
 
+TEST(AutoEstimator, ASegmentInWhichACurveEndsIsNoBiasMeasurement) {
+  // A turn while warming by 20 C leaves the bias sigma wide (no model yet: 0.003 dps/C per C),
+  // so the segment that begins as the turn slows to a 0.2 dps curve and holds its last 1.5 s
+  // and the stop's first 1.5 s passes the mean test, 0.1 dps off the bias. Taken for still, it
+  // measured the bias there and the stop's segments were rejected against it; its block means
+  // step from one level to the other, and it is rejected.
+  Rig rig;
+  rig.run(30.0, 0.0);
+  rig.set_temperature(30.0, 1.0);
+  rig.run(20.0, 10.0);
+  rig.set_temperature(50.0);
+  rig.run(1.5, 0.2);
+  rig.run(60.0, 0.0);
+  const AutoEstimator& automatic = *rig.estimator().automatic();
+  EXPECT_GE(automatic.rate_changed_segments(), 1u);
+  EXPECT_EQ(rig.estimator().diagnostics().rate_changed_segments, automatic.rate_changed_segments());
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
+  EXPECT_LT(std::abs(rig.error()), 0.5) << "the curve's 0.3 deg integrated, the stop held still";
+}
+
 TEST(AutoEstimator, AWrongBiasIsLeftBeforeAStopConfirmsIt) {
   // Started while creeping: the start-up takes the curve for the bias, and the curve's later
   // segments agree with it. None of them confirms it (no motion came between), so the first
