@@ -2,8 +2,9 @@
 # How much of the randomized sweep is where the 3 s segment grid happens to fall: the same worlds
 # (bench/sweep.sh), the estimators started 0, 1, 2, ... samples into each. Prints each run's
 # summary figures, the seeds whose `auto` max changes by more than 1.5x between runs (decisions on
-# a knife edge), and how many seeds count as a loss to C in some runs and not in others: the
-# noise under any comparison of two sweeps.
+# a knife edge), how many seeds count as a loss to C in some runs and not in others, and how many
+# seeds each estimator is worse than itself by more than 0.05 deg: the noise under any
+# comparison of two sweeps.
 # Usage: bench/sweep_phase.sh [PHASES (4)] [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)]  (PHASES x ~100 s)
 set -euo pipefail
 source "$(dirname "$0")/../scripts/lib.sh"
@@ -50,4 +51,21 @@ awk -F'|' '
     }
     printf "\nseeds whose auto max changes by more than 1.5x between runs: %d%s\n", n_edge, n_edge ? ":" edge : ""
     printf "seeds a loss to C in some runs and not in others: %d%s\n", n_flips, n_flips ? ":" flips : ""
+  }' $(for ((k = 0; k < phases; ++k)); do echo "$dir/$k.txt"; done)
+
+# Each estimator against itself started 0 samples in: how many seeds a start one or more samples
+# later makes "worse by more than 0.05 deg", the margin issue 12 sets between the temperature
+# model on and off. A comparison of two sweeps counts that many seeds worse from the phase alone.
+awk -F'|' '
+  FNR == 1 { ++run }
+  NF == 4 { split($1, a, " "); if (a[1] !~ /^[0-9]+$/) next
+    split($2, b, " "); split($3, c, " "); s = a[1]
+    with[s, run] = b[1]; without[s, run] = c[1]; seeds[s] = 1 }
+  END {
+    print "\nseeds worse by more than 0.05 deg than the same estimator started 0 samples in:"
+    for (r = 2; r <= run; ++r) {
+      w = 0; n = 0
+      for (s in seeds) { w += (with[s, r] > with[s, 1] + 0.05); n += (without[s, r] > without[s, 1] + 0.05) }
+      printf "  skip %d: auto %d, auto-notemp %d\n", r - 1, w, n
+    }
   }' $(for ((k = 0; k < phases; ++k)); do echo "$dir/$k.txt"; done)
