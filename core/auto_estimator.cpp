@@ -57,6 +57,7 @@ constexpr std::size_t kVerdictRecords = 1024;  // 0.995^1024: under 1 % of a ver
 // fewer: a vehicle or a hand may move for minutes before its first stop (BROAD's tapping and
 // vibration trials move for two, and a start-up forced inside that was a wrong bias).
 constexpr double kMovingStartupRatio = 15.0;
+constexpr int kMaxMovingStartups = 100;
 // A still segment's block means scatter about one level; where motion starts or stops inside a
 // segment, they move from one level to another, and the segment's mean lies anywhere between
 // (random world 108: the last seconds of a 0.2 dps curve and the first of a stop, accepted
@@ -64,11 +65,10 @@ constexpr double kMovingStartupRatio = 15.0;
 // temperature model the wrong sign). The least-squares slope of the block means against time,
 // in sigmas of the block means' own noise, flags such a segment whatever its mean. 6 sigmas:
 // the maximum over three axes on still segments is 1.3 in the median and above 4 on 4 of some
-// 11000 (random worlds 5, 7, 14, 17, 25, 33, 41, 108: the Gaussian share), on BROAD's accepted
-// rests at most 3.4; the transitions that cost the random worlds lie at 7-20. At 4, BROAD
+// 13500 (random worlds 5, 7, 14, 17, 25, 33, 41, 108: a Gaussian's share), on BROAD's accepted
+// rests at most 3.4; the transitions that cost the random worlds lie at 7-24. At 4 and 5, BROAD
 // trial 05 lost a segment where the hand began to move before the dataset's mark (5.0).
 constexpr double kRateChangeSigmas = 6.0;
-constexpr int kMaxMovingStartups = 100;
 constexpr double kStartupTurnS = 0.005;  // the start-up's samples are kept this long at a time
 // What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
 // a stop and not a steady turn.
