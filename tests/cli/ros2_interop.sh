@@ -102,7 +102,7 @@ grep -q '^diagnostic .*name=headingd: sensor|hardware_id=L3GD20H' "$dir/a.peer" 
 for key in state rate_hz nominal_rate_hz samples samples_dropped bus_errors fifo_overruns recoveries stuck_samples temperature_c; do
   grep '^diagnostic .*name=headingd: sensor' "$dir/a.peer" | tail -1 | grep -q "|.*[|;]$key=" || fail "sensor status lacks $key"
 done
-for key in method heading_deg heading_sigma_deg heading_fixes bias_dps bias_sigma_dps last_still_age_s accepted_segments bias_restarts returns_mended temperature_model temperature_models_refuted motion_hint hint_conflicts commands_rejected; do
+for key in method heading_deg heading_sigma_deg heading_fixes bias_dps bias_sigma_dps last_still_age_s accepted_segments bias_restarts returns_mended temperature_model temperature_models_refuted rejected_rate_changing motion_hint hint_conflicts commands_rejected; do
   grep '^diagnostic .*name=headingd: estimator' "$dir/a.peer" | tail -1 | grep -q "[|;]$key=" || fail "estimator status lacks $key"
 done
 grep -q '^diagnostic .*level=1 name=headingd: estimator|.*message=start-up' "$dir/a.peer" || fail "no WARN during start-up"
