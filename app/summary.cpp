@@ -21,8 +21,8 @@ void print_estimator(const core::Estimator& estimator) {
                  static_cast<unsigned long long>(d.retracted_segments));
     if (d.rate_changed_segments > 0)
       std::fprintf(stderr,
-                   "  changing     %llu segments rejected because the rate changed within them (motion starting or "
-                   "stopping)\n",
+                   "  changing     %llu segments that passed the mean test rejected because the rate changed within "
+                   "them (motion starting or stopping)\n",
                    static_cast<unsigned long long>(d.rate_changed_segments));
     if (d.bias_recoveries > 0)
       std::fprintf(stderr,

@@ -327,7 +327,6 @@ SegmentVerdict AutoEstimator::close_segment() {
   // A segment whose rate changed within it is motion starting or stopping, whatever its mean:
   // neither a bias measurement nor a level that could take a restart back.
   const bool rate_changed = rate_changed_within_segment();
-  if (rate_changed) ++rate_changed_segments_;
   if (!judgement.mean_ok && !rate_changed && replaced_.pending && hint_ == MotionHint::None)
     take_back_recovery(evidence, judgement);
   const bool mean_ok = judgement.mean_ok && !rate_changed;
@@ -367,6 +366,8 @@ SegmentVerdict AutoEstimator::close_segment() {
   }
   if (hint_conflict) ++hint_conflicts_;
   verdict.accepted = hint_ != MotionHint::Moving && (mean_ok || (hint_ == MotionHint::Stopped && !hint_conflict));
+  // Counted where the gate alone decided: the mean test passed and nothing else kept it.
+  if (rate_changed && judgement.mean_ok && !verdict.accepted) ++rate_changed_segments_;
   const double deviation_z = mean.z() - filters_[2].bias_dps();
   const double sd_z = std::sqrt(filters_[2].bias_variance() + r.z());
   count_verdict(verdict.accepted, mean, previous_.predicted_dps);

@@ -250,7 +250,7 @@ class AutoEstimator {
   // slope sd makes the level implausible), and nothing else could ever correct it.
   void forget_models_the_run_refutes();
   std::uint64_t refuted_models_ = 0;
-  std::uint64_t rate_changed_segments_ = 0;  // rejected: the rate changed within them
+  std::uint64_t rate_changed_segments_ = 0;  // passed the mean test, rejected: the rate changed within them
   void recover_bias();
   QuietRun quiet_;
   // What a recovery of a bias no stop had confirmed replaced, until a stop decides between the

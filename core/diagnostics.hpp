@@ -30,7 +30,7 @@ struct Diagnostics {
   std::uint64_t bias_recoveries = 0;        // auto: restarts from an unexplained quiet period
   std::uint64_t refused_recoveries = 0;     // auto: quiet periods at a level the bias could not reach
   std::uint64_t refuted_models = 0;         // auto: temperature models (per axis) a quiet run contradicted
-  std::uint64_t rate_changed_segments = 0;  // auto: rejected because the rate changed within them
+  std::uint64_t rate_changed_segments = 0;  // auto: passed the mean test, rejected: the rate changed within
   std::uint64_t recoveries_taken_back = 0;  // auto: a later stop agreed with the level replaced
   // auto: restarts back to a level a stop had measured, whose heading correction a stop after
   // motion confirmed, and the last such correction (deg; the heading jumped by it).
