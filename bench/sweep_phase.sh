@@ -32,12 +32,15 @@ for ((k = 0; k < phases; ++k)); do
     END { printf "%5d %9s %9s %7s %13s %7s\n", k, median, p90, losses, worse, honest }' "$dir/$k.txt"
 done
 
-# Per seed: auto's max and C's in every run.
+# Per seed: auto's max, auto-notemp's and C's in every run. Then each estimator against itself
+# started 0 samples in: how many seeds a start one or more samples later makes "worse by more
+# than 0.05 deg", the margin issue 12 sets between the temperature model on and off; a comparison
+# of two sweeps counts that many seeds worse from the phase alone.
 awk -F'|' '
   FNR == 1 { ++run }
   NF == 4 { split($1, a, " "); if (a[1] !~ /^[0-9]+$/) next
     split($2, b, " "); split($3, c, " "); s = a[1]
-    auto[s, run] = b[1]; cmax[s, run] = c[2]; seeds[s] = 1 }
+    auto[s, run] = b[1]; notemp[s, run] = c[1]; cmax[s, run] = c[2]; seeds[s] = 1 }
   END {
     edge = ""; flips = ""; n_edge = 0; n_flips = 0
     for (s in seeds) {
@@ -51,21 +54,10 @@ awk -F'|' '
     }
     printf "\nseeds whose auto max changes by more than 1.5x between runs: %d%s\n", n_edge, n_edge ? ":" edge : ""
     printf "seeds a loss to C in some runs and not in others: %d%s\n", n_flips, n_flips ? ":" flips : ""
-  }' $(for ((k = 0; k < phases; ++k)); do echo "$dir/$k.txt"; done)
-
-# Each estimator against itself started 0 samples in: how many seeds a start one or more samples
-# later makes "worse by more than 0.05 deg", the margin issue 12 sets between the temperature
-# model on and off. A comparison of two sweeps counts that many seeds worse from the phase alone.
-awk -F'|' '
-  FNR == 1 { ++run }
-  NF == 4 { split($1, a, " "); if (a[1] !~ /^[0-9]+$/) next
-    split($2, b, " "); split($3, c, " "); s = a[1]
-    with[s, run] = b[1]; without[s, run] = c[1]; seeds[s] = 1 }
-  END {
     print "\nseeds worse by more than 0.05 deg than the same estimator started 0 samples in:"
     for (r = 2; r <= run; ++r) {
       w = 0; n = 0
-      for (s in seeds) { w += (with[s, r] > with[s, 1] + 0.05); n += (without[s, r] > without[s, 1] + 0.05) }
+      for (s in seeds) { w += (auto[s, r] > auto[s, 1] + 0.05); n += (notemp[s, r] > notemp[s, 1] + 0.05) }
       printf "  skip %d: auto %d, auto-notemp %d\n", r - 1, w, n
     }
   }' $(for ((k = 0; k < phases; ++k)); do echo "$dir/$k.txt"; done)
