@@ -2,7 +2,8 @@
 # How much of the randomized sweep is where the 3 s segment grid happens to fall: the same worlds
 # (bench/sweep.sh), the estimators started 0, 1, 2, ... samples into each. Prints each run's
 # summary figures, the seeds whose `auto` max changes by more than 1.5x between runs (decisions on
-# a knife edge), how many seeds count as a loss to C in some runs and not in others, and how many
+# a knife edge), how many seeds count as a loss to C in some runs and not in others, the seeds a
+# loss to C and those where the temperature model costs more than 0.05 deg in every run, and how many
 # seeds each estimator is worse than itself by more than 0.05 deg: the noise under any
 # comparison of two sweeps.
 # Usage: bench/sweep_phase.sh [PHASES (4)] [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)]  (PHASES x ~100 s)
@@ -42,18 +43,24 @@ awk -F'|' '
     split($2, b, " "); split($3, c, " "); s = a[1]
     auto[s, run] = b[1]; notemp[s, run] = c[1]; cmax[s, run] = c[2]; seeds[s] = 1 }
   END {
-    edge = ""; flips = ""; n_edge = 0; n_flips = 0
+    edge = ""; flips = ""; n_edge = 0; n_flips = 0; always_lost = ""; n_always_lost = 0; always_worse = ""; n_always_worse = 0
     for (s in seeds) {
-      lo = 1e300; hi = 0; lost = 0
+      lo = 1e300; hi = 0; lost = 0; worse = 0
       for (r = 1; r <= run; ++r) {
         v = auto[s, r] + 0; if (v < lo) lo = v; if (v > hi) hi = v
         lost += (auto[s, r] + 0 > cmax[s, r] + 0)
+        worse += (auto[s, r] + 0 > notemp[s, r] + 0.05)
       }
       if (hi > 1.5 * (lo > 0.5 ? lo : 0.5)) { edge = edge sprintf(" %s (%.1f-%.1f)", s, lo, hi); ++n_edge }
       if (lost > 0 && lost < run) { flips = flips " " s; ++n_flips }
+      if (lost == run) { always_lost = always_lost " " s; ++n_always_lost }
+      if (worse == run) { always_worse = always_worse " " s; ++n_always_worse }
     }
     printf "\nseeds whose auto max changes by more than 1.5x between runs: %d%s\n", n_edge, n_edge ? ":" edge : ""
     printf "seeds a loss to C in some runs and not in others: %d%s\n", n_flips, n_flips ? ":" flips : ""
+    printf "seeds a loss to C in every run: %d%s\n", n_always_lost, n_always_lost ? ":" always_lost : ""
+    printf "seeds where the model on is worse than off by more than 0.05 deg in every run: %d%s\n", n_always_worse,
+           n_always_worse ? ":" always_worse : ""
     print "\nseeds worse by more than 0.05 deg than the same estimator started 0 samples in:"
     for (r = 2; r <= run; ++r) {
       w = 0; n = 0
