@@ -48,7 +48,8 @@ fi
 after="$HEADINGD_ROOT/build/default/app/headingd"
 
 work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+writer=""  # the background job feeding a replay through a FIFO: not left blocked if the replay fails
+trap '[ -z "$writer" ] || kill "$writer" 2>/dev/null; rm -rf "$work"' EXIT
 results="$work/results.txt"
 : >"$results"
 IFS=, read -r -a scenario_list <<<"$scenarios"
@@ -69,8 +70,10 @@ for scenario in "${scenario_list[@]}"; do
         # The recording less its first k samples, streamed through a pipe (paper12h is over 1 GB).
         mkfifo "$run/late.csv"
         awk -v k="$k" '/^#/ || /^time_s/ { print; next } { if (n++ >= k) print }' "$run/imu.csv" >"$run/late.csv" &
+        writer=$!
         "$binary" replay --quiet --no-dds "$run/late.csv" -o "$run/estimates.csv"
-        wait
+        wait "$writer"
+        writer=""
         rm -f "$run/late.csv"
         # score prints: label max final RMS drift hours
         "$after" score --label x "$run/estimates.csv" "$run/truth.csv" | awk -v s="$scenario" -v d="$seed" \
