@@ -97,6 +97,7 @@ class AutoEstimator {
   double last_still_t_s() const { return last_still_t_s_; }
 
  private:
+  static constexpr double kTimeEpsilonS = 1e-9;  // two times closer than this are one
   struct Segment {
     SegmentStats stats;
     BlockMeans blocks{0.1};

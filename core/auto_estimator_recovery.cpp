@@ -1,0 +1,323 @@
+// AutoEstimator: a quiet run that the mean test keeps rejecting (a stop under a wrong bias, or a
+// creep): when it restarts the bias, the restart's take-back by the next stop, a return to a
+// level an earlier stop measured, the temperature models a run refutes, and the heading shown
+// while a restart is undecided.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <optional>
+
+#include "core/auto_estimator.hpp"
+#include "core/units.hpp"
+
+namespace headingd::core {
+namespace {
+
+// How far a confirmed bias may have moved when a quiet run would restart it: the bias walk's
+// sigmas, the zero-rate level's change with temperature (datasheet OffDr: +-0.04 dps/C at
+// 2000 dps full scale, the widest range), and a floor for what neither models: a consumer
+// MEMS gyro's bias instability, up to some 20 deg/h (0.005 dps). Not more: a creep held past
+// the wait is a quiet run too, and every hundredth of a dps let through restarts the bias on
+// slow turns (0.02 here cost issue 12's random worlds half their median, bench/sweep.sh).
+constexpr double kPlausibleSigmas = 5.0;
+constexpr double kZeroRateChangeDpsPerC = 0.04;
+constexpr double kPlausibleFloorDps = 0.005;
+constexpr double kModelMisfitDpsPerC = 0.003;  // a linear fit to a curved bias, per C of change
+// A quiet run's slope against temperature this many sigmas (its own, the model's and a floor)
+// from the model's refutes the model. Forgetting a model costs little (it is learned again
+// from the next stops), keeping a wrong one a stop rejected for its whole length; but the test
+// is asked again on every segment of a long run, hence 4 and not 3 (at 3, a creep refuted a
+// right model on random world 21). The floor: the model's slope sigma takes every accepted
+// segment as independent, and a curved bias's slope differs from a line's. Picked from
+// 0.003/0.0015/0.001 on the sweep.
+constexpr double kRefuteSigmas = 4.0;
+constexpr double kSlopeFloorDpsPerC = 0.001;
+constexpr double kUnconditionalRecoveryFactor = 10.0;
+constexpr double kMostlyRejecting = 0.8;
+constexpr double kFewVerdicts = 5.0;
+constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
+// The odds that an undecided recovery's quiet run was a creep, against a stop, fall with the
+// square of how long it has held still, from even at the wait (see undecided_offset_deg).
+constexpr double kCreepOddsPower = 2.0;
+// What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
+// a stop and not a steady turn.
+constexpr double kWaitEvidence = 3.0;
+// A restart's level is the one an earlier stop measured when they lie within this many sigmas of
+// their spread and the bias walk between (core/bias_history.hpp).
+constexpr double kReturnSigmas = 3.0;
+
+}  // namespace
+
+void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
+  const double duration_s = segment_.duration_s;
+  bool agrees = quiet_.duration_s > 0.0;
+  if (agrees) {
+    // The same level within the mean test's own scale: a steady signal, not a changing rate.
+    const Vec3 run_mean = quiet_.mean_dps();
+    for (Eigen::Index a = 0; a < 3; ++a) {
+      const Vec3& white = models_.white_dps2_s();
+      const double sd = std::sqrt(white[a] / duration_s + white[a] / quiet_.duration_s);
+      agrees = agrees && std::abs(mean_dps[a] - run_mean[a]) <= settings_.k_mean * sd;
+    }
+  }
+  if (!agrees) {
+    quiet_ = QuietRun{};
+    // The verdicts before this segment: the run's own rejections must not vouch for it.
+    quiet_.accepted_before = judged_weight_ - rejected_weight_;
+    quiet_.first_verdict = verdicts_counted_ - 1;
+    quiet_.filters_at_start = segment_.filters_at_start;
+    quiet_.attitude_at_start = segment_.attitude_at_start;
+    quiet_.history_at_start = segment_.history_at_start;
+  }
+  quiet_.duration_s += duration_s;
+  quiet_.sum_dps_s += mean_dps * duration_s;
+  quiet_.sum_sq_dps2_s += mean_dps.cwiseAbs2() * duration_s;
+  quiet_.sigma_dps = segment_.stats.sigma_dps();
+  if (segment_.temp_count > 0) quiet_.slope.add(duration_s, segment_.temp_sum_c / segment_.temp_count, mean_dps);
+  if (quiet_.duration_s + kTimeEpsilonS < wait_before_recovery_s()) return;
+  forget_models_the_run_refutes();
+  // Before a stop after motion has confirmed the bias, the run may be the stop and the bias
+  // the turn (a start-up while turning); after, only a level the bias could have drifted to.
+  // A run that goes on for many times the wait is no creep any more, whatever its level.
+  // Nor when most segments lately were rejected at the run's level: a bias (or temperature
+  // model) gone wrong rejects the stops, and refusing would lock it in. Counted before the run
+  // began (a creep held for minutes rejects its own segments), and only the rejections nearer
+  // the run's level than the bias they were judged against, beside the accepted segments:
+  // slow motion at other levels says nothing about the bias (counted, it restarted the bias
+  // on slow turns after a short start-up; random worlds 24, 91, 173 and held-out 289, 378, 379).
+  const double rejected_here = rejections_at_level(quiet_.mean_dps(), quiet_.first_verdict);
+  const double judged_here = rejected_here + quiet_.accepted_before;
+  const bool mostly_rejecting = rejected_here > kMostlyRejecting * judged_here && judged_here >= kFewVerdicts;
+  // A recovery of a bias no stop after motion has confirmed is a choice between two quiet
+  // levels that only a later stop can make (see Replaced); one made because most of many
+  // verdicts were rejections at the run's level is not (a handful of them says nothing).
+  recovery_ambiguous_ = !bias_confirmed_ && !mostly_rejecting;
+  if (!bias_confirmed_ || mostly_rejecting || quiet_run_bias_plausible() ||
+      quiet_.duration_s >= kUnconditionalRecoveryFactor * settings_.recover_after_s)
+    recover_bias();
+  else if (quiet_.duration_s < settings_.recover_after_s + duration_s + kTimeEpsilonS)
+    ++refused_recoveries_;  // counted once per run; the run goes on and is looked at again
+}
+
+void AutoEstimator::forget_models_the_run_refutes() {
+  LevelSlope::Fit fit;
+  if (!settings_.use_temperature || !quiet_.slope.fit(models_.white_dps2_s(), fit)) return;
+  for (int axis = 0; axis < 3; ++axis) {
+    const TemperatureModel& model = models_.temperature_model(axis);
+    if (!model.ready()) continue;
+    const double gap = fit.slope_dps_per_c[axis] - model.slope_dps_per_c(fit.mean_temp_c);
+    const double sd =
+        std::sqrt(fit.slope_variance[axis] + model.slope_variance() + kSlopeFloorDpsPerC * kSlopeFloorDpsPerC);
+    if (std::abs(gap) <= kRefuteSigmas * sd) continue;
+    models_.forget_temperature_model(axis);
+    ++refuted_models_;
+    // The model's slope was off by about `gap` while it was in use, so the angle by gap times the
+    // integral of (T - T0) dt since each bias measurement (at T0), summed over the spans between
+    // them (model_exposure_c_s_), which the slope's variance never covered: added to the angle's
+    // variance, now and at the run's start (where a restart begins). Not
+    // to the bias's: that would widen the mean test for the segments to come and let creeps in
+    // (tried: four random worlds' max excess grew tenfold). The restart measures the bias anew.
+    const auto i = static_cast<std::size_t>(axis);
+    const double angle_sd_deg = gap * (model_exposure_c_s_[i] + temp_change_integral_now(i));
+    model_exposure_c_s_[i] = 0.0;
+    filters_[i].widen_angle(angle_sd_deg * angle_sd_deg);
+    quiet_.filters_at_start[i].covariance(0, 0) += angle_sd_deg * angle_sd_deg;
+  }
+}
+
+double AutoEstimator::run_level_evidence() const {
+  // The start-up level or the run's is the bias, the other a steady turn. A zero-rate level is
+  // small (zero_rate_sigma_dps) and a turn's rate need not be: the log-likelihood ratio of the
+  // two as biases. (A start-up at 18 dps and a stop at -0.5 dps: 40 nats.)
+  if (!bias_from_startup_only_) return 0.0;
+  const double evidence = (bias_dps().squaredNorm() - quiet_.mean_dps().squaredNorm()) /
+                          (2.0 * settings_.zero_rate_sigma_dps * settings_.zero_rate_sigma_dps);
+  return std::max(0.0, evidence);
+}
+
+double AutoEstimator::wait_before_recovery_s() const {
+  // Evidence the wait need not gather: a turn would have to hold a rate near zero to fool it.
+  return std::max(segments_.segment_s, settings_.recover_after_s * (1.0 - run_level_evidence() / kWaitEvidence));
+}
+
+bool AutoEstimator::quiet_run_bias_plausible() const {
+  const Vec3 mean = quiet_.mean_dps();
+  const double since_s = std::isfinite(last_still_t_s_) ? std::max(0.0, segment_.start_t_s - last_still_t_s_) : 0.0;
+  const double temp_change_c = std::isfinite(temp_at_still_c_) && std::isfinite(previous_temp_c_)
+                                   ? std::abs(previous_temp_c_ - temp_at_still_c_)
+                                   : 0.0;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    const double walk_sd = std::sqrt(filters_[axis].bias_variance() + walk_dps2_per_s_ * since_s);
+    // The filter's bias already follows the temperature model where it is in use: what remains
+    // is the model's own slope uncertainty and misfit; without it, the datasheet's bound.
+    const TemperatureModel& model = models_.temperature_model(static_cast<int>(axis));
+    const double per_c = model.ready() && settings_.use_temperature
+                             ? kPlausibleSigmas * std::sqrt(model.slope_variance()) + kModelMisfitDpsPerC
+                             : kZeroRateChangeDpsPerC;
+    const double bound = kPlausibleSigmas * walk_sd + per_c * temp_change_c + kPlausibleFloorDps;
+    if (std::abs(mean[a] - filters_[axis].bias_dps()) > bound) return false;
+  }
+  return true;
+}
+
+AxisFilter::State AutoEstimator::as_if_kept(std::size_t axis, const AxisFilter::State& now, double t_s) const {
+  // The filter is linear: what happened since the recovery moved both versions alike, so the
+  // mean is the present one plus their difference carried over the time since. Not so the
+  // covariance: the quiet run's later segments measured the other level, and their information
+  // is not this one's; it is the kept version's, propagated over the time since.
+  const double span_s = std::max(0.0, t_s - replaced_.at_t_s);
+  AxisFilter filter;
+  filter.restore(now);
+  filter.carry_difference(replaced_.as_kept[axis], replaced_.as_restarted[axis], span_s);
+  AxisFilter kept;
+  kept.restore(replaced_.as_kept[axis]);
+  AxisFilter::Plain p = kept.plain();
+  AxisFilter::propagate(p, 0.0, span_s, models_.white_dps2_s()[static_cast<Eigen::Index>(axis)], walk_dps2_per_s_);
+  AxisFilter::State state = filter.state();
+  state.covariance << p.p00, p.p01, p.p01, p.p11;
+  return state;
+}
+
+bool AutoEstimator::take_back_recovery(SegmentEvidence& evidence, Judgement& judgement) {
+  replaced_.quiet_run_over = true;
+  const double end_t_s = segment_.start_t_s + segment_.duration_s;
+  std::array<AxisFilter::State, 3> kept{};
+  SegmentEvidence as_kept = evidence;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    kept[axis] = as_if_kept(axis, filters_[axis].state(), end_t_s);
+    if (!kept[axis].covariance.allFinite() || !std::isfinite(kept[axis].bias_dps)) return false;
+    as_kept.predicted_dps[a] = kept[axis].bias_dps;
+    as_kept.predicted_var[a] = kept[axis].covariance(1, 1);
+  }
+  const Judgement with_kept = judge_segment(as_kept, PreviousSegment{}, settings_);
+  if (!with_kept.mean_ok) return false;
+  const double yaw_change_deg = kept[2].angle_deg - filters_[2].angle_deg();
+  const double start_angle_before_deg = segment_.filters_at_start[2].angle_deg;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    filters_[axis].restore(kept[axis]);
+    segment_.filters_at_start[axis] = as_if_kept(axis, segment_.filters_at_start[axis], segment_.start_t_s);
+  }
+  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_change_deg), Vec3::UnitZ()) * attitude_.attitude());
+  // The segment's zero-rate update goes back to its start: the attitude there turns alike.
+  const double start_yaw_change_deg = segment_.filters_at_start[2].angle_deg - start_angle_before_deg;
+  segment_.attitude_at_start =
+      Eigen::AngleAxisd(deg_to_rad(start_yaw_change_deg), Vec3::UnitZ()) * segment_.attitude_at_start;
+  // Whatever was judged since was judged against the other level, and what it taught the
+  // temperature models goes with it: a slope between the two levels is a creep's rate over a
+  // few degrees (random world 149: about -0.2 dps/C over 4 C, the bias carried 0.9 dps away).
+  commit_last_accepted();
+  models_.restore_temperature_models(replaced_.models_kept);
+  outlier_ = Outlier{};
+  previous_.usable = false;
+  replaced_.pending = false;
+  return_correction_deg_.reset();
+  ++taken_back_;
+  evidence = as_kept;
+  judgement = with_kept;
+  return true;
+}
+
+void AutoEstimator::recover_bias() {
+  // Taken for a stop: the heading goes back to the run's start (a zero-rate update over it),
+  // the bias starts again from the run's mean, and the heading's variance takes the whole
+  // bias change over the time it was integrated with the old bias, for which was right is
+  // unknown: from the last accepted segment to the run, or from the start when the old bias
+  // rests on the start-up alone (that may have been a turn, held as still; then the heading
+  // since is integrated again with the new bias, below).
+  const Vec3 mean = quiet_.mean_dps();
+  // The bias variance: the mean's own noise, plus the spread of the segment means, for a run
+  // taken for a stop may still hold some slow motion.
+  const Vec3 spread = (quiet_.sum_sq_dps2_s / quiet_.duration_s - mean.cwiseAbs2()).cwiseMax(0.0);
+  const Vec3 r = models_.white_dps2_s() / quiet_.duration_s + spread;
+  const double run_start_s = segment_.start_t_s + segment_.duration_s - quiet_.duration_s;
+  const double trusted_until_s = bias_from_startup_only_          ? startup_start_t_s_
+                                 : std::isfinite(last_still_t_s_) ? last_still_t_s_
+                                                                  : run_start_s;
+  const double exposed_s = std::max(0.0, run_start_s - trusted_until_s);
+  replaced_.pending = recovery_ambiguous_;
+  replaced_.creep_sized = std::abs(mean.z() - quiet_.filters_at_start[2].bias_dps) <= kFastestCreepDps;
+  replaced_.run_s = quiet_.duration_s;
+  replaced_.still_s = quiet_.duration_s;
+  replaced_.quiet_run_over = false;
+  replaced_.at_t_s = segment_.start_t_s + segment_.duration_s;
+  double yaw_correction_deg = 0.0;
+  // A level a stop measured before (the bias never moved; creeps, a temperature model or a bias
+  // set from outside took the estimate away from it): the heading since that stop owes the
+  // difference, held until a stop after motion agrees with the level (return_correction_deg_).
+  // Not where the start-up's own correction below applies.
+  const bool startup_corrected =
+      bias_from_startup_only_ && std::abs(mean.z() - quiet_.filters_at_start[2].bias_dps) > kFastestCreepDps;
+  const std::optional<double> returned_deg =
+      startup_corrected
+          ? std::nullopt
+          : history_.correction_for_return(mean.z(), r.z(), walk_dps2_per_s_, kReturnSigmas, quiet_.history_at_start,
+                                           run_start_s, quiet_.filters_at_start[2].angle_deg);
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    replaced_.as_kept[axis] = filters_[axis].state();
+    const AxisFilter::State& from = quiet_.filters_at_start[axis];
+    // Taken for a stop, the run's own angle left the heading; if it was a creep after all (a
+    // choice only a later stop makes), that angle is the error: the variance covers both, when
+    // the level is one a creep could have (a faster one held for minutes is a turn).
+    const double change_dps = mean[a] - from.bias_dps;
+    const double exposed_deg = change_dps * exposed_s;
+    const bool creep_sized = std::abs(change_dps) <= kFastestCreepDps;
+    const double run_deg = recovery_ambiguous_ && creep_sized ? change_dps * quiet_.duration_s : 0.0;
+    // A bias resting on the start-up alone replaced by a level no creep reaches: the start-up
+    // was a turn and this the bias all along, so the heading integrated since the start-up
+    // takes it too (the start-up's own seconds, held still, included). A creep-sized change
+    // may be a creep after a true start-up: no correction, which a take-back would have to
+    // undo. The variance keeps the whole change either way.
+    AxisFilter::State corrected = from;
+    if (bias_from_startup_only_ && !creep_sized) corrected.angle_deg -= exposed_deg;
+    const double returned = axis == 2 && returned_deg ? *returned_deg : 0.0;
+    if (axis == 2) yaw_correction_deg = corrected.angle_deg - from.angle_deg;
+    filters_[axis].restart_bias(corrected, mean[a], r[a],
+                                exposed_deg * exposed_deg + run_deg * run_deg + returned * returned);
+    replaced_.as_restarted[axis] = filters_[axis].state();
+  }
+  attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * quiet_.attitude_at_start);
+  history_.measured(replaced_.at_t_s, mean.z(), r.z(), filters_[2].angle_deg());
+  return_correction_deg_ = returned_deg;
+  replaced_.models_kept = models_.temperature_models();
+  models_.relearn_after_recovery(quiet_.sigma_dps);
+  if (bias_from_startup_only_) models_.restart_noise_if_inflated(segment_.stats, segment_.blocks, segment_.duration_s);
+  last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
+  if (std::isfinite(previous_temp_c_)) temp_at_still_c_ = previous_temp_c_;  // the run was the stop
+  bias_measured_at(previous_temp_c_);
+  previous_.usable = false;
+  quiet_ = QuietRun{};
+  outlier_ = Outlier{};
+  bias_from_startup_only_ = false;
+  // A level the confirmed bias could have drifted to stays confirmed; any other waits for a
+  // stop after motion to agree with it (bias_confirmed_ is then already false).
+  motion_since_basis_ = false;
+  ++recoveries_;
+}
+
+double AutoEstimator::undecided_offset_deg(double t_s) {
+  // A creep held past the wait after a short start-up and a stop after one look alike (the
+  // quiet run is the only evidence, and it is the same); the filters follow the restarted
+  // level and the sigma covers both, but the heading shown is their probability-weighted mean,
+  // which halves the error of whichever was wrong (issue 12's random worlds: seed 200's creep
+  // restart, 79 deg -> 46 deg, before the next stop took it back). Even at the wait, as in
+  // Replaced; every further second the run holds still makes a creep less likely and a stop
+  // more, with odds falling as the square of its length, so a long stop converges on the
+  // restart. A faster rate change than a creep's is a turn, not a creep: no share. Only the
+  // shown heading and attitude lean (and a heading saved from them); the filters and the tests do not.
+  if (!replaced_.pending || !replaced_.creep_sized) return 0.0;
+  const double span_s = std::max(0.0, t_s - replaced_.at_t_s);
+  if (!replaced_.quiet_run_over) replaced_.still_s = replaced_.run_s + span_s;
+  const double odds = std::pow(replaced_.run_s / std::max(replaced_.still_s, replaced_.run_s), kCreepOddsPower);
+  const double kept_share = odds / (1.0 + odds);
+  const AxisFilter::State& kept = replaced_.as_kept[2];
+  const AxisFilter::State& restarted = replaced_.as_restarted[2];
+  // The kept version's heading less the restarted one's, carried (as in as_if_kept).
+  const double difference_deg = (kept.angle_deg - restarted.angle_deg) - span_s * (kept.bias_dps - restarted.bias_dps);
+  return std::isfinite(difference_deg) ? kept_share * difference_deg : 0.0;
+}
+
+}  // namespace headingd::core
