@@ -7,6 +7,7 @@
 // error against the truth lies within its own 2 sigma. Per-seed rows, then the summary.
 // Seeds run on every core; the figures do not depend on how many.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -65,7 +66,11 @@ struct SeedResult {
   Excess excess[kMethods];
   double floor_max_abs_deg = 0.0;  // the floor against the truth: what no bias estimator removes
   double within_two_sigma = 0.0;   // auto, share of 10 Hz outputs
+  // The same with auto's sigma multiplied by kSigmaScales[i]: a calibration curve, not a setting.
+  std::array<double, 4> within_scaled{};
 };
+
+constexpr std::array<double, 4> kSigmaScales{1.25, 1.5, 2.0, 3.0};
 
 constexpr double kScaleSpread = 0.005;
 
@@ -97,6 +102,7 @@ SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip) {
   drivers::TruthPoint truth;
   double floor_deg = 0.0, previous_t = 0.0, tracker_deg = 0.0, truth_at_start_deg = 0.0;
   std::uint64_t within = 0, outputs = 0;
+  std::array<std::uint64_t, kSigmaScales.size()> within_scaled{};
   for (std::uint64_t k = 0; k < skip && !sim.done(); ++k) sim.step(sample, truth);
   if (skip > 0) truth_at_start_deg = truth.heading_deg;
   for (std::uint64_t i = 0; !sim.done(); ++i) {
@@ -117,9 +123,13 @@ SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip) {
     r.excess[kTracker].add(tracker_deg - floor_deg);
     r.floor_max_abs_deg = std::max(r.floor_max_abs_deg, std::abs(truth.heading_deg - floor_deg));
     within += std::abs(truth.heading_deg - a_deg) <= 2.0 * a_sigma;
+    for (std::size_t j = 0; j < kSigmaScales.size(); ++j)
+      within_scaled[j] += std::abs(truth.heading_deg - a_deg) <= 2.0 * kSigmaScales[j] * a_sigma;
     ++outputs;
   }
   r.within_two_sigma = outputs > 0 ? static_cast<double>(within) / static_cast<double>(outputs) : 0.0;
+  for (std::size_t j = 0; j < kSigmaScales.size(); ++j)
+    r.within_scaled[j] = outputs > 0 ? static_cast<double>(within_scaled[j]) / static_cast<double>(outputs) : 0.0;
   return r;
 }
 
@@ -206,5 +216,21 @@ int main(int argc, char** argv) {
       "bench/honesty_limit.sh shows the per-run band a consistent sigma meets)\n",
       honest, seeds, too_confident, too_cautious, 100.0 * lowest_honesty,
       100.0 * share_sum / static_cast<double>(seeds));
+  // How far the sigma is from consistent, pooled and per run: the same counts with it scaled.
+  std::printf("sigma scaled (a calibration curve, not a setting; a consistent sigma: bench/honesty_limit.sh):");
+  for (std::size_t j = 0; j < kSigmaScales.size(); ++j) {
+    int in_band = 0, below = 0, above = 0;
+    double pooled = 0.0;
+    for (const SeedResult& r : results) {
+      const double share = r.within_scaled[j];
+      in_band += share >= 0.85 && share <= 0.995;
+      below += share < 0.6;
+      above += share > 0.995;
+      pooled += share;
+    }
+    std::printf("%s x%.3g: %d in 85-99.5 %%, %d below 60 %%, %d above 99.5 %%, %.1f %% pooled", j == 0 ? "" : ";",
+                kSigmaScales[j], in_band, below, above, 100.0 * pooled / static_cast<double>(seeds));
+  }
+  std::printf("\n");
   return 0;
 }
