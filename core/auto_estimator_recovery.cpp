@@ -38,7 +38,13 @@ constexpr double kMostlyRejecting = 0.8;
 constexpr double kFewVerdicts = 5.0;
 constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
 // The odds that an undecided recovery's quiet run was a creep, against a stop, fall with the
-// square of how long it has held still, from even at the wait (see undecided_offset_deg).
+// square of how long it has held still, from 4 : 1 at the wait (see undecided_offset_deg). Not
+// even: the start-up it would replace was a stop unless the platform turned at a steady rate
+// without vibration at the very moment headingd started (a start-up whose rate or vibration
+// changed is caught as moving), while a slow curve or creep held that long in the first minutes
+// of driving is an ordinary manoeuvre. Picked from 1, 2, 4, 8 and 100 on issue 12's random worlds
+// 1-200 and run once on 201-400 (bench/sweep.sh; README): 8 and more cost the right restarts.
+constexpr double kCreepOddsAtWait = 4.0;
 constexpr double kCreepOddsPower = 2.0;
 // What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
 // a stop and not a steady turn.
@@ -302,16 +308,17 @@ double AutoEstimator::undecided_offset_deg(double t_s) {
   // A creep held past the wait after a short start-up and a stop after one look alike (the
   // quiet run is the only evidence, and it is the same); the filters follow the restarted
   // level and the sigma covers both, but the heading shown is their probability-weighted mean,
-  // which halves the error of whichever was wrong (issue 12's random worlds: seed 200's creep
-  // restart, 79 deg -> 46 deg, before the next stop took it back). Even at the wait, as in
-  // Replaced; every further second the run holds still makes a creep less likely and a stop
-  // more, with odds falling as the square of its length, so a long stop converges on the
-  // restart. A faster rate change than a creep's is a turn, not a creep: no share. Only the
-  // shown heading and attitude lean (and a heading saved from them); the filters and the tests do not.
+  // which spares most of the error when the restart was the creep (issue 12's random worlds:
+  // seed 200's creep restart, 79 deg shown at even odds, 21 deg at 4 : 1, before the next stop
+  // took it back). A creep is the likelier at the wait (kCreepOddsAtWait); every further second
+  // the run holds still makes it less likely, with odds falling as the square of its length, so
+  // a long stop converges on the restart. A faster rate change than a creep's is a turn, not a creep: no share. Only
+  // the shown heading and attitude lean (and a heading saved from them); the filters and the tests do not.
   if (!replaced_.pending || !replaced_.creep_sized) return 0.0;
   const double span_s = std::max(0.0, t_s - replaced_.at_t_s);
   if (!replaced_.quiet_run_over) replaced_.still_s = replaced_.run_s + span_s;
-  const double odds = std::pow(replaced_.run_s / std::max(replaced_.still_s, replaced_.run_s), kCreepOddsPower);
+  const double odds =
+      kCreepOddsAtWait * std::pow(replaced_.run_s / std::max(replaced_.still_s, replaced_.run_s), kCreepOddsPower);
   const double kept_share = odds / (1.0 + odds);
   const AxisFilter::State& kept = replaced_.as_kept[2];
   const AxisFilter::State& restarted = replaced_.as_restarted[2];
