@@ -42,7 +42,7 @@ constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
 // even: the start-up it would replace was a stop unless the platform turned at a steady rate
 // without vibration at the very moment headingd started (a start-up whose rate or vibration
 // changed is caught as moving), while a slow curve or creep held that long in the first minutes
-// of driving is an ordinary manoeuvre. Picked from 1, 2, 4, 8 and 100 on issue 12's random worlds
+// of driving is an ordinary manoeuvre. Picked from 0.5, 1, 2, 4, 8 and 100 on issue 12's random worlds
 // 1-200 and run once on 201-400 (bench/sweep.sh; README): 8 and more cost the right restarts.
 constexpr double kCreepOddsAtWait = 4.0;
 constexpr double kCreepOddsPower = 2.0;
