@@ -43,7 +43,7 @@ constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
 // without vibration at the very moment headingd started (a start-up whose rate or vibration
 // changed is caught as moving), while a slow curve or creep held that long in the first minutes
 // of driving is an ordinary manoeuvre. Picked from 0.5, 1, 2, 4, 8 and 100 on issue 12's random worlds
-// 1-200 and run once on 201-400 (bench/sweep.sh; README): 8 and more cost the right restarts.
+// 1-200 and run once on 201-400 (bench/sweep.sh; docs/random-worlds.md): 8 and more cost the right restarts.
 constexpr double kCreepOddsAtWait = 4.0;
 constexpr double kCreepOddsPower = 2.0;
 // What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
