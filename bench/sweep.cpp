@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/estimator.hpp"
+#include "loss_trace.hpp"
 #include "seed_pool.hpp"
 #include "sim/gyro_simulator.hpp"
 
@@ -68,6 +69,7 @@ struct SeedResult {
   double within_two_sigma = 0.0;   // auto, share of 10 Hz outputs
   // The same with auto's sigma multiplied by kSigmaScales[i]: a calibration curve, not a setting.
   std::array<double, 4> within_scaled{};
+  bench::LossWhy why;  // only where auto's max exceeds C's
 };
 
 constexpr std::array<double, 4> kSigmaScales{1.25, 1.5, 2.0, 3.0};
@@ -103,6 +105,7 @@ SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip) {
   double floor_deg = 0.0, previous_t = 0.0, tracker_deg = 0.0, truth_at_start_deg = 0.0;
   std::uint64_t within = 0, outputs = 0;
   std::array<std::uint64_t, kSigmaScales.size()> within_scaled{};
+  bench::LossTrace trace;
   for (std::uint64_t k = 0; k < skip && !sim.done(); ++k) sim.step(sample, truth);
   if (skip > 0) truth_at_start_deg = truth.heading_deg;
   for (std::uint64_t i = 0; !sim.done(); ++i) {
@@ -113,6 +116,11 @@ SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip) {
     if (truth.moving) floor_deg += (sample.rate_dps.z() - truth.bias_z_dps) * dt_s;
     const core::Estimate& a = automatic.update(sample);
     const double a_deg = a.heading_deg, a_sigma = a.heading_sigma_deg;
+    trace.sample(truth.moving, dt_s);
+    if (a.closed.closed) {
+      const core::Diagnostics d = automatic.diagnostics();
+      trace.closed(sample.t_s, a.closed, d.bias_recoveries, d.recoveries_taken_back);
+    }
     const double n_deg = no_temperature.update(sample).heading_deg;
     const double c_deg = paper_c.update(sample).heading_deg;
     tracker_deg = tracker.update(sample, dt_s);
@@ -121,12 +129,14 @@ SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip) {
     r.excess[kAutoNoTemperature].add(n_deg - floor_deg);
     r.excess[kC].add(c_deg - floor_deg);
     r.excess[kTracker].add(tracker_deg - floor_deg);
+    trace.output(sample.t_s, a_deg - floor_deg, c_deg - floor_deg);
     r.floor_max_abs_deg = std::max(r.floor_max_abs_deg, std::abs(truth.heading_deg - floor_deg));
     within += std::abs(truth.heading_deg - a_deg) <= 2.0 * a_sigma;
     for (std::size_t j = 0; j < kSigmaScales.size(); ++j)
       within_scaled[j] += std::abs(truth.heading_deg - a_deg) <= 2.0 * kSigmaScales[j] * a_sigma;
     ++outputs;
   }
+  if (r.excess[kAuto].max_abs > r.excess[kC].max_abs) r.why = trace.why(r.excess[kAutoNoTemperature].max_abs);
   r.within_two_sigma = outputs > 0 ? static_cast<double>(within) / static_cast<double>(outputs) : 0.0;
   for (std::size_t j = 0; j < kSigmaScales.size(); ++j)
     r.within_scaled[j] = outputs > 0 ? static_cast<double>(within_scaled[j]) / static_cast<double>(outputs) : 0.0;
@@ -202,6 +212,17 @@ int main(int argc, char** argv) {
   for (const auto& s : losses) list += (list.empty() ? "" : " ") + s;
   std::printf("\nauto worse than C on %zu of %ld seeds%s%s\n", losses.size(), seeds, losses.empty() ? "" : ": ",
               list.c_str());
+  // Each exception, and why (bench/loss_trace.hpp): what auto did where its error passed C's worst.
+  for (const SeedResult& r : results) {
+    if (!(r.excess[kAuto].max_abs > r.excess[kC].max_abs)) continue;
+    const bench::LossWhy& w = r.why;
+    std::printf(
+        "  seed %llu, %.1f deg where C has %.1f (without the model %.1f): %s; %.0f-%.0f s: %.0f s of motion "
+        "taken for still, %.0f s of stops rejected, %llu restart(s), %llu taken back\n",
+        static_cast<unsigned long long>(r.seed), r.excess[kAuto].max_abs, r.excess[kC].max_abs,
+        r.excess[kAutoNoTemperature].max_abs, w.kind(), w.window_start_s, w.worst_t_s, w.moving_taken_s,
+        w.still_rejected_s, static_cast<unsigned long long>(w.restarts), static_cast<unsigned long long>(w.taken_back));
+  }
   std::printf("auto median / C median: %.2f; auto median / fusion-style median: %.2f\n",
               quantile(by_method[kAuto], 0.5) / quantile(by_method[kC], 0.5),
               quantile(by_method[kAuto], 0.5) / quantile(by_method[kTracker], 0.5));
