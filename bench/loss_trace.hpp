@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/diagnostics.hpp"
 #include "core/estimate.hpp"
 
 namespace headingd::bench {
@@ -19,11 +20,12 @@ struct LossWhy {
   double window_start_s = 0.0, worst_t_s = 0.0;
   double moving_taken_s = 0.0;    // truth moving, segments accepted as still
   double still_rejected_s = 0.0;  // truth still, segments rejected
-  std::uint64_t restarts = 0, taken_back = 0;
+  std::uint64_t restarts = 0, refused = 0, taken_back = 0;
   bool model_alone = false;  // without the temperature model `auto` is no worse than C here
   const char* kind() const {
     if (model_alone) return "the temperature model (no loss without it)";
     if (moving_taken_s >= 3.0 && still_rejected_s >= 30.0) return "slow movement taken for still, then stops rejected";
+    if (still_rejected_s >= 30.0) return "stops rejected against a bias gone wrong before the window";
     if (restarts > 0) return "a restart onto slow movement, shown until a stop takes it back";
     return "other (read the trace)";
   }
@@ -31,14 +33,15 @@ struct LossWhy {
 
 class LossTrace {
  public:
-  // Every sample: the truth's flag and its length, and whether `auto` closed a segment; at a close
-  // the restarts counted so far (AutoEstimator diagnostics).
+  // Every sample: the truth's flag and its length; at each segment `auto` closes, its verdict and
+  // the restarts, refusals and take-backs counted so far (its diagnostics).
   void sample(bool truly_moving, double dt_s) {
     segment_s_ += dt_s;
     if (truly_moving) moving_s_ += dt_s;
   }
-  void closed(double t_s, const core::SegmentVerdict& v, std::uint64_t restarts, std::uint64_t taken_back) {
-    segments_.push_back({t_s, segment_s_, moving_s_, v.accepted, restarts, taken_back});
+  void closed(double t_s, const core::SegmentVerdict& v, const core::Diagnostics& d) {
+    segments_.push_back(
+        {t_s, segment_s_, moving_s_, v.accepted, d.bias_recoveries, d.refused_recoveries, d.recoveries_taken_back});
     segment_s_ = moving_s_ = 0.0;
   }
   // Every 10 Hz output: `auto`'s excess and C's.
@@ -64,23 +67,25 @@ class LossTrace {
     }
     w.window_start_s = std::max(0.0, passed_t - kLeadS);
     w.model_alone = notemp_max_deg <= c_max;
-    std::uint64_t restarts_before = 0, taken_back_before = 0, restarts_after = 0, taken_back_after = 0;
+    const Segment* before = nullptr;
+    const Segment* last = nullptr;
     for (const Segment& s : segments_) {
       if (s.end_t_s <= w.window_start_s) {
-        restarts_before = restarts_after = s.restarts;
-        taken_back_before = taken_back_after = s.taken_back;
+        before = &s;
         continue;
       }
       if (s.end_t_s - s.length_s > w.worst_t_s) break;
-      restarts_after = s.restarts;
-      taken_back_after = s.taken_back;
+      last = &s;
       if (s.accepted)
         w.moving_taken_s += s.moving_s;
       else
         w.still_rejected_s += s.length_s - s.moving_s;
     }
-    w.restarts = restarts_after - restarts_before;
-    w.taken_back = taken_back_after - taken_back_before;
+    if (last != nullptr) {
+      w.restarts = last->restarts - (before != nullptr ? before->restarts : 0);
+      w.refused = last->refused - (before != nullptr ? before->refused : 0);
+      w.taken_back = last->taken_back - (before != nullptr ? before->taken_back : 0);
+    }
     return w;
   }
 
@@ -90,7 +95,7 @@ class LossTrace {
   struct Segment {
     double end_t_s, length_s, moving_s;
     bool accepted;
-    std::uint64_t restarts, taken_back;
+    std::uint64_t restarts, refused, taken_back;
   };
   struct Output {
     double t_s, a_deg, c_deg;

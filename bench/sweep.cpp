@@ -118,8 +118,7 @@ SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip) {
     const double a_deg = a.heading_deg, a_sigma = a.heading_sigma_deg;
     trace.sample(truth.moving, dt_s);
     if (a.closed.closed) {
-      const core::Diagnostics d = automatic.diagnostics();
-      trace.closed(sample.t_s, a.closed, d.bias_recoveries, d.recoveries_taken_back);
+      trace.closed(sample.t_s, a.closed, automatic.diagnostics());
     }
     const double n_deg = no_temperature.update(sample).heading_deg;
     const double c_deg = paper_c.update(sample).heading_deg;
@@ -218,10 +217,11 @@ int main(int argc, char** argv) {
     const bench::LossWhy& w = r.why;
     std::printf(
         "  seed %llu, %.1f deg where C has %.1f (without the model %.1f): %s; %.0f-%.0f s: %.0f s of motion "
-        "taken for still, %.0f s of stops rejected, %llu restart(s), %llu taken back\n",
+        "taken for still, %.0f s of stops rejected, %llu restart(s), %llu refused, %llu taken back\n",
         static_cast<unsigned long long>(r.seed), r.excess[kAuto].max_abs, r.excess[kC].max_abs,
         r.excess[kAutoNoTemperature].max_abs, w.kind(), w.window_start_s, w.worst_t_s, w.moving_taken_s,
-        w.still_rejected_s, static_cast<unsigned long long>(w.restarts), static_cast<unsigned long long>(w.taken_back));
+        w.still_rejected_s, static_cast<unsigned long long>(w.restarts), static_cast<unsigned long long>(w.refused),
+        static_cast<unsigned long long>(w.taken_back));
   }
   std::printf("auto median / C median: %.2f; auto median / fusion-style median: %.2f\n",
               quantile(by_method[kAuto], 0.5) / quantile(by_method[kC], 0.5),
