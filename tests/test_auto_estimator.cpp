@@ -27,6 +27,8 @@ class Rig {
     temp_c_ = temp_c;
     temp_c_per_s_ = c_per_s;
   }
+  // The true z bias moves by `offset_dps` from now on (a shock, a trim change: no temperature).
+  void shift_bias(double offset_dps) { bias_offset_dps_ += offset_dps; }
   // `seconds` of signal with true z rate `rate_dps` on top of bias and white noise.
   void run(double seconds, double rate_dps, double vibration_dps = 0.0) {
     const auto n = static_cast<int>(std::lround(seconds * kRateHz));
@@ -37,7 +39,7 @@ class Rig {
       temp_c_ += temp_c_per_s_ / kRateHz;
       const double shake = vibration_dps * noise_(rng_);
       s.rate_dps = Vec3(0.3 + 0.05 * noise_(rng_) + shake, -0.2 + 0.05 * noise_(rng_) + shake,
-                        -0.45 + rate_dps * scale_ + 0.2 * noise_(rng_) + 0.3 * shake);
+                        -0.45 + bias_offset_dps_ + rate_dps * scale_ + 0.2 * noise_(rng_) + 0.3 * shake);
       true_heading_ += rate_dps / kRateHz * (index_ > 1 ? 1.0 : 0.0);
       const auto& e = estimator_.update(s);
       if (e.closed.closed) {
@@ -63,6 +65,7 @@ class Rig {
   double scale_ = 1.0;
   double temp_c_ = 30.0;
   double temp_c_per_s_ = 0.0;
+  double bias_offset_dps_ = 0.0;
 };
 
 }  // namespace
@@ -360,6 +363,28 @@ TEST(AutoEstimator, ASlowCurveHeldForMinutesIsNoNewBias) {
   EXPECT_GE(automatic.refused_recoveries(), 1u);
   EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
   EXPECT_LT(std::abs(rig.error()), 1.0) << "the curve is heading, not bias";
+}
+
+TEST(AutoEstimator, AStopHeldThreeTimesTheWaitRestartsAConfirmedBiasWhateverItsLevel) {
+  // A confirmed bias, then the true bias jumps by 0.05 dps at a constant temperature (nothing
+  // the bias walk or a temperature explains): the next stop is rejected, and its level is one
+  // the confirmed bias could not have drifted to, so the restart is refused at the wait, as for
+  // a slow curve. Held for three times the wait (270 s), it is a stop whatever its level.
+  Rig rig;
+  rig.run(60.0, 0.0);
+  rig.run(3.0, 30.0, 2.0);
+  rig.run(60.0, 0.0);  // confirmed
+  rig.shift_bias(0.05);
+  rig.run(3.0, 30.0, 2.0);
+  rig.run(250.0, 0.0);
+  const AutoEstimator& automatic = *rig.estimator().automatic();
+  EXPECT_EQ(automatic.bias_recoveries(), 0u) << "refused at the wait: a slow curve looks the same";
+  EXPECT_GE(automatic.refused_recoveries(), 1u);
+  rig.run(40.0, 0.0);
+  EXPECT_EQ(automatic.bias_recoveries(), 1u);
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.40, 0.01);
+  // The run's own seconds went back to its start; what remains is the drive before it.
+  EXPECT_LT(std::abs(rig.error()), 1.0);
 }
 
 TEST(AutoEstimator, ACreepDoesNotVouchForItselfAsABiasGoneWrong) {
