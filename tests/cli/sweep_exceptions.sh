@@ -19,7 +19,7 @@ for s in $seeds; do
   awk -v s="$s" '{
     a = $3 + 0; c = $8 + 0
     if (!(a > c)) { print "seed " s ": auto " a " not above C " c; exit 1 }
-    if ($0 !~ /: (slow movement taken for still, then stops rejected|a restart onto slow movement, shown until a stop takes it back|the temperature model \(no loss without it\)|stops rejected against a bias gone wrong before the window|other \(read the trace\)); [0-9]+-[0-9]+ s: [0-9]+ s of motion taken for still, [0-9]+ s of stops rejected, [0-9]+ restart\(s\), [0-9]+ refused, [0-9]+ taken back$/) {
+    if ($0 !~ /: (slow movement taken for still, then stops rejected|a restart onto slow movement, shown until a stop takes it back|the temperature model \(no loss without it\)|stops rejected against a bias gone wrong before the window|stops cut by vibration, the bias left untested|other \(read the trace\)); [0-9]+-[0-9]+ s: [0-9]+ s of motion taken for still, [0-9]+ s of stops rejected, [0-9]+ s of stops cut, [0-9]+ restart\(s\), [0-9]+ refused, [0-9]+ taken back$/) {
       print "seed " s ": unexpected line: " $0; exit 1 }
   }' <<<"$line" || fail "seed $s"
 done
