@@ -27,8 +27,7 @@ struct LossWhy {
   // tested there, whatever it was.
   const char* kind() const {
     if (model_alone) return "the temperature model (no loss without it)";
-    if (still_cut_s >= 30.0 && still_cut_s > still_rejected_s)
-      return "stops cut by vibration, the bias left untested";
+    if (still_cut_s >= 30.0 && still_cut_s > still_rejected_s) return "stops cut by vibration, the bias left untested";
     if (moving_taken_s >= 3.0 && still_rejected_s >= 30.0) return "slow movement taken for still, then stops rejected";
     if (still_rejected_s >= 30.0) return "stops rejected against a bias gone wrong before the window";
     if (restarts > 0) return "a restart onto slow movement, shown until a stop takes it back";
@@ -45,8 +44,8 @@ class LossTrace {
     if (truly_moving) moving_s_ += dt_s;
   }
   void closed(double t_s, const core::SegmentVerdict& v, const core::Diagnostics& d) {
-    segments_.push_back(
-        {t_s, segment_s_, moving_s_, v.accepted, v.range_ok, d.bias_recoveries, d.refused_recoveries, d.recoveries_taken_back});
+    segments_.push_back({t_s, segment_s_, moving_s_, v.accepted, v.range_ok, d.bias_recoveries, d.refused_recoveries,
+                         d.recoveries_taken_back});
     segment_s_ = moving_s_ = 0.0;
   }
   // Every 10 Hz output: `auto`'s excess and C's.

@@ -217,11 +217,12 @@ int main(int argc, char** argv) {
     const bench::LossWhy& w = r.why;
     std::printf(
         "  seed %llu, %.1f deg where C has %.1f (without the model %.1f): %s; %.0f-%.0f s: %.0f s of motion "
-        "taken for still, %.0f s of stops rejected, %.0f s of stops cut, %llu restart(s), %llu refused, %llu taken back\n",
+        "taken for still, %.0f s of stops rejected, %.0f s of stops cut, %llu restart(s), %llu refused, %llu taken "
+        "back\n",
         static_cast<unsigned long long>(r.seed), r.excess[kAuto].max_abs, r.excess[kC].max_abs,
         r.excess[kAutoNoTemperature].max_abs, w.kind(), w.window_start_s, w.worst_t_s, w.moving_taken_s,
-        w.still_rejected_s, w.still_cut_s, static_cast<unsigned long long>(w.restarts), static_cast<unsigned long long>(w.refused),
-        static_cast<unsigned long long>(w.taken_back));
+        w.still_rejected_s, w.still_cut_s, static_cast<unsigned long long>(w.restarts),
+        static_cast<unsigned long long>(w.refused), static_cast<unsigned long long>(w.taken_back));
   }
   std::printf("auto median / C median: %.2f; auto median / fusion-style median: %.2f\n",
               quantile(by_method[kAuto], 0.5) / quantile(by_method[kC], 0.5),

@@ -15,12 +15,17 @@ void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2, do
                     .bias_dps = bias_dps,
                     .variance_dps2 = std::max(0.0, variance_dps2),
                     .heading_deg = heading_deg,
-                    .at = now_};
+                    .at = now_,
+                    .first_bias_dps = bias_dps,
+                    .first_variance_dps2 = std::max(0.0, variance_dps2)};
   if (count_ > 0) {
     Level& last = levels_[(next_ + kLevels - 1) % kLevels];
-    const double sd = std::sqrt(last.variance_dps2 + level.variance_dps2);
-    if (std::abs(last.bias_dps - bias_dps) <= kSameLevelSigmas * sd) {
+    const double sd = std::sqrt(last.first_variance_dps2 + level.variance_dps2);
+    if (std::abs(last.first_bias_dps - bias_dps) <= kSameLevelSigmas * sd) {
+      const double first_bias = last.first_bias_dps, first_variance = last.first_variance_dps2;
       last = level;
+      last.first_bias_dps = first_bias;
+      last.first_variance_dps2 = first_variance;
       return;
     }
   }
@@ -40,7 +45,9 @@ std::optional<double> BiasHistory::correction_for_return(double level_dps, doubl
     if (past.t_s > until_t_s) continue;
     const double since_s = until_t_s - past.t_s;
     const double sd = std::sqrt(past.variance_dps2 + std::max(0.0, level_variance_dps2) + walk_dps2_per_s * since_s);
-    const double z = std::abs(past.bias_dps - level_dps) / sd;
+    // The level spans its first point to its latest (a stop's estimate converges, a carried one
+    // walks): either end agreeing is a return to it.
+    const double z = std::min(std::abs(past.bias_dps - level_dps), std::abs(past.first_bias_dps - level_dps)) / sd;
     if (!(z <= best_z)) continue;  // NaN: no match
     best_z = z;
     best = &past;

@@ -31,7 +31,9 @@ class BiasHistory {
   Mark mark() const { return now_; }
 
   // A stop measured the bias: `bias_dps` with `variance_dps2` at `t_s`, the heading then
-  // `heading_deg`. Consecutive points at one level keep only the latest.
+  // `heading_deg`. Consecutive points at one level keep only the latest; a point is at the level
+  // when it agrees with the level's first point (not merely with the latest, which would let a
+  // bias carried in small steps drag one level along the whole way).
   void measured(double t_s, double bias_dps, double variance_dps2, double heading_deg);
   // A heading fix: the headings kept no longer compare with the ones to come.
   void forget() { count_ = next_ = 0; }
@@ -52,6 +54,10 @@ class BiasHistory {
     double variance_dps2 = 0.0;
     double heading_deg = 0.0;
     Mark at;
+    // The level's first point: a later one joins the level only if it agrees with this, so that
+    // a bias carried step by step (a temperature model, a slow drift) leaves its levels behind.
+    double first_bias_dps = 0.0;
+    double first_variance_dps2 = 0.0;
   };
   static constexpr std::size_t kLevels = 256;  // distinct levels kept, the oldest dropped
   std::array<Level, kLevels> levels_{};

@@ -259,6 +259,34 @@ TEST(BiasHistory, AReturnToAnEarlierLevelOwesTheHeadingTheRawTurnLessThatLevelSi
   EXPECT_FALSE(history.correction_for_return(0.50, 1e-6, 0.0, 3.0, run, 370.0, 290.0).has_value());
 }
 
+TEST(BiasHistory, ABiasCarriedStepByStepLeavesItsFirstLevelBehindForAReturn) {
+  // The platform stands still with the bias at 0.50 throughout, while the estimate is carried
+  // away from it 0.001 dps per 10 s segment (a temperature model with a wrong slope), each step
+  // within 2 sigma of the one before. Measured points joined to the latest once merged the whole
+  // walk into its last point, 0.599, and a return to 0.50 found nothing; a point now joins a
+  // level only if it agrees with the level's first point, so 0.500-0.502 stay one level.
+  BiasHistory history;
+  double heading_deg = 0.0, heading_at_first_level_deg = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    const double carried_dps = 0.50 + 0.001 * k;
+    history.measured(10.0 * k, carried_dps, 1e-6, heading_deg);
+    if (k == 2) heading_at_first_level_deg = heading_deg;  // the first level's latest point
+    for (int i = 0; i < 10; ++i) {
+      history.integrate(0.50, 1.0);  // the raw rate: the bias alone
+      heading_deg += 0.50 - carried_dps;
+    }
+  }
+  const auto back = history.correction_for_return(0.50, 1e-6, 0.0, 3.0, history.mark(), 1000.0, heading_deg);
+  ASSERT_TRUE(back.has_value());
+  // Had the bias been 0.50 since that point the heading would not have moved.
+  EXPECT_NEAR(*back, heading_at_first_level_deg - heading_deg, 1e-9);
+  EXPECT_GT(*back, 40.0);
+  // A level inside the walk matches the step nearest it, not the walk's start.
+  const auto middle = history.correction_for_return(0.55, 1e-6, 0.0, 3.0, history.mark(), 1000.0, heading_deg);
+  ASSERT_TRUE(middle.has_value());
+  EXPECT_LT(std::abs(*middle), std::abs(*back));
+}
+
 TEST(BiasHistory, StopsAtOneLevelKeepOnlyTheLatestAndTheOldestLevelsGo) {
   BiasHistory history;
   history.measured(0.0, 0.50, 1e-6, 0.0);
