@@ -147,6 +147,8 @@ class AutoEstimator {
   SegmentVerdict close_segment();
   void accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double t_s);
   void follow_temperature(double temp_c, double t_s);
+  // Whether a temperature model carries the z bias between measurements (BiasHistory).
+  bool z_carried_by_model() const { return settings_.use_temperature && models_.temperature_model(2).ready(); }
   // The bias was just measured (or restored) at this temperature: the share of its variance
   // that the temperature's change adds counts from here (NaN: from the next reading).
   void bias_measured_at(double temp_c);

@@ -251,7 +251,8 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
     ++returns_mended_;
     return_correction_deg_.reset();
   }
-  history_.measured(end_t_s, filters_[2].bias_dps(), filters_[2].bias_variance(), filters_[2].angle_deg());
+  history_.measured(end_t_s, filters_[2].bias_dps(), filters_[2].bias_variance(), filters_[2].angle_deg(),
+                    z_carried_by_model());
   // The attitude goes back to the segment's start, turned about the vertical by the heading
   // correction the bias measurement made to the time before.
   const double yaw_correction_deg = filters_[2].angle_deg() - segment_.filters_at_start[2].angle_deg;

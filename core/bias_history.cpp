@@ -9,7 +9,7 @@ namespace {
 constexpr double kSameLevelSigmas = 2.0;
 }  // namespace
 
-void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2, double heading_deg) {
+void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2, double heading_deg, bool carried) {
   if (!std::isfinite(bias_dps) || !std::isfinite(variance_dps2) || !std::isfinite(heading_deg)) return;
   const Level level{.t_s = t_s,
                     .bias_dps = bias_dps,
@@ -20,12 +20,18 @@ void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2, do
                     .first_variance_dps2 = std::max(0.0, variance_dps2)};
   if (count_ > 0) {
     Level& last = levels_[(next_ + kLevels - 1) % kLevels];
-    const double sd = std::sqrt(last.first_variance_dps2 + level.variance_dps2);
-    if (std::abs(last.first_bias_dps - bias_dps) <= kSameLevelSigmas * sd) {
+    // Carried: against the level's first point. Else against its latest, which the level then
+    // becomes: stops that measure a bias drifting for real leave no level behind to return to.
+    const double anchor_dps = carried ? last.first_bias_dps : last.bias_dps;
+    const double anchor_variance = carried ? last.first_variance_dps2 : last.variance_dps2;
+    const double sd = std::sqrt(anchor_variance + level.variance_dps2);
+    if (std::abs(anchor_dps - bias_dps) <= kSameLevelSigmas * sd) {
       const double first_bias = last.first_bias_dps, first_variance = last.first_variance_dps2;
       last = level;
-      last.first_bias_dps = first_bias;
-      last.first_variance_dps2 = first_variance;
+      if (carried) {
+        last.first_bias_dps = first_bias;
+        last.first_variance_dps2 = first_variance;
+      }
       return;
     }
   }

@@ -31,10 +31,12 @@ class BiasHistory {
   Mark mark() const { return now_; }
 
   // A stop measured the bias: `bias_dps` with `variance_dps2` at `t_s`, the heading then
-  // `heading_deg`. Consecutive points at one level keep only the latest; a point is at the level
-  // when it agrees with the level's first point (not merely with the latest, which would let a
-  // bias carried in small steps drag one level along the whole way).
-  void measured(double t_s, double bias_dps, double variance_dps2, double heading_deg);
+  // `heading_deg`. Consecutive points at one level keep only the latest. `carried`: the estimate
+  // is carried between measurements by something other than the bias (a temperature model);
+  // then a point is at the level only when it agrees with the level's first point, for a model
+  // with a wrong slope would otherwise drag one level along the whole way and lose the stops it
+  // left. Not otherwise: a bias drifting for real, measured stop by stop, has no level to return to.
+  void measured(double t_s, double bias_dps, double variance_dps2, double heading_deg, bool carried = false);
   // A heading fix: the headings kept no longer compare with the ones to come.
   void forget() { count_ = next_ = 0; }
 
@@ -54,8 +56,7 @@ class BiasHistory {
     double variance_dps2 = 0.0;
     double heading_deg = 0.0;
     Mark at;
-    // The level's first point: a later one joins the level only if it agrees with this, so that
-    // a bias carried step by step (a temperature model, a slow drift) leaves its levels behind.
+    // The level's first point: a carried point joins the level only if it agrees with this.
     double first_bias_dps = 0.0;
     double first_variance_dps2 = 0.0;
   };

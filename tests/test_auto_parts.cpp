@@ -262,29 +262,39 @@ TEST(BiasHistory, AReturnToAnEarlierLevelOwesTheHeadingTheRawTurnLessThatLevelSi
 TEST(BiasHistory, ABiasCarriedStepByStepLeavesItsFirstLevelBehindForAReturn) {
   // The platform stands still with the bias at 0.50 throughout, while the estimate is carried
   // away from it 0.001 dps per 10 s segment (a temperature model with a wrong slope), each step
-  // within 2 sigma of the one before. Measured points joined to the latest once merged the whole
-  // walk into its last point, 0.599, and a return to 0.50 found nothing; a point now joins a
+  // within 2 sigma of the one before. Measured points joined to the latest merge the whole walk
+  // into its last point, 0.599, and a return to 0.50 finds nothing; carried, a point joins a
   // level only if it agrees with the level's first point, so 0.500-0.502 stay one level.
-  BiasHistory history;
-  double heading_deg = 0.0, heading_at_first_level_deg = 0.0;
-  for (int k = 0; k < 100; ++k) {
-    const double carried_dps = 0.50 + 0.001 * k;
-    history.measured(10.0 * k, carried_dps, 1e-6, heading_deg);
-    if (k == 2) heading_at_first_level_deg = heading_deg;  // the first level's latest point
-    for (int i = 0; i < 10; ++i) {
-      history.integrate(0.50, 1.0);  // the raw rate: the bias alone
-      heading_deg += 0.50 - carried_dps;
+  const auto walk = [](bool carried, double& heading_deg, double& heading_at_first_level_deg) {
+    BiasHistory history;
+    for (int k = 0; k < 100; ++k) {
+      const double carried_dps = 0.50 + 0.001 * k;
+      history.measured(10.0 * k, carried_dps, 1e-6, heading_deg, carried);
+      if (k == 2) heading_at_first_level_deg = heading_deg;  // the first level's latest point
+      for (int i = 0; i < 10; ++i) {
+        history.integrate(0.50, 1.0);  // the raw rate: the bias alone
+        heading_deg += 0.50 - carried_dps;
+      }
     }
-  }
-  const auto back = history.correction_for_return(0.50, 1e-6, 0.0, 3.0, history.mark(), 1000.0, heading_deg);
+    return history;
+  };
+  double heading_deg = 0.0, heading_at_first_level_deg = 0.0;
+  const BiasHistory carried = walk(true, heading_deg, heading_at_first_level_deg);
+  const auto back = carried.correction_for_return(0.50, 1e-6, 0.0, 3.0, carried.mark(), 1000.0, heading_deg);
   ASSERT_TRUE(back.has_value());
   // Had the bias been 0.50 since that point the heading would not have moved.
   EXPECT_NEAR(*back, heading_at_first_level_deg - heading_deg, 1e-9);
   EXPECT_GT(*back, 40.0);
   // A level inside the walk matches the step nearest it, not the walk's start.
-  const auto middle = history.correction_for_return(0.55, 1e-6, 0.0, 3.0, history.mark(), 1000.0, heading_deg);
+  const auto middle = carried.correction_for_return(0.55, 1e-6, 0.0, 3.0, carried.mark(), 1000.0, heading_deg);
   ASSERT_TRUE(middle.has_value());
   EXPECT_LT(std::abs(*middle), std::abs(*back));
+  // The same steps measured stop by stop with nothing carrying the estimate are a bias that
+  // drifted for real: one level, the latest, and no return to where it began.
+  double measured_heading_deg = 0.0, unused_deg = 0.0;
+  const BiasHistory measured = walk(false, measured_heading_deg, unused_deg);
+  EXPECT_FALSE(
+      measured.correction_for_return(0.50, 1e-6, 0.0, 3.0, measured.mark(), 1000.0, measured_heading_deg).has_value());
 }
 
 TEST(BiasHistory, StopsAtOneLevelKeepOnlyTheLatestAndTheOldestLevelsGo) {
