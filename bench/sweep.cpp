@@ -76,19 +76,22 @@ constexpr std::array<double, 4> kSigmaScales{1.25, 1.5, 2.0, 3.0};
 
 constexpr double kScaleSpread = 0.005;
 
-core::EstimatorSettings settings_for(Method m) {
+// `recover_after_s`: the wait before a quiet run restarts the bias, for both `auto` variants
+// (negative: the configured default). A calibration curve, bench/sweep_wait.sh.
+core::EstimatorSettings settings_for(Method m, double recover_after_s) {
   core::EstimatorSettings s;
   if (m == kC) s.method = core::Method::C;
   if (m == kAutoNoTemperature) s.automatic.use_temperature = false;
   // What an integrator who knows the sensor configures: the random worlds draw the scale
   // error evenly within +-0.5 % (sim/scenarios.cpp), a sigma of 0.5 % / sqrt(3).
   s.automatic.scale_factor_sigma = kScaleSpread / std::sqrt(3.0);
+  if (recover_after_s >= 0.0) s.automatic.recover_after_s = recover_after_s;
   return s;
 }
 
 // `skip`: samples the simulator runs before the estimators see the first one (the world is the
 // same; only where the 3 s segment grid falls in it moves).
-SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip) {
+SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip, double recover_after_s) {
   drivers::GyroSimulator sim(*drivers::build_scenario("random", seed, hours), seed);
   const drivers::NoiseModel& noise = sim.scenario().noise;
   SeedResult r;
@@ -96,8 +99,8 @@ SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip) {
   r.rate_hz = noise.rate_hz;
   r.temp_coefficient_z = noise.bias_per_c_dps.z();
   r.hours = static_cast<double>(sim.scenario().total_samples) / noise.rate_hz / 3600.0;
-  core::Estimator automatic(settings_for(kAuto)), no_temperature(settings_for(kAutoNoTemperature)),
-      paper_c(settings_for(kC));
+  core::Estimator automatic(settings_for(kAuto, recover_after_s)),
+      no_temperature(settings_for(kAutoNoTemperature, recover_after_s)), paper_c(settings_for(kC, recover_after_s));
   FusionStyleTracker tracker;
   const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(noise.rate_hz / 10.0)));
   core::Sample sample;
@@ -156,12 +159,22 @@ int main(int argc, char** argv) {
   const long first_seed = argc > 3 ? std::strtol(argv[3], nullptr, 10) : 1;
   // The estimators start this many samples into each world (bench/sweep_phase.sh).
   const long skip = argc > 4 ? std::strtol(argv[4], nullptr, 10) : 0;
-  if (seeds < 1 || !(hours > 0.0) || first_seed < 1 || skip < 0) {
-    std::fprintf(stderr, "usage: sweep [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)] [SKIP_SAMPLES (0)]\n");
+  // Another wait before a quiet run restarts the bias than the configured one (bench/sweep_wait.sh).
+  char* wait_end = nullptr;
+  const double recover_after_s = argc > 5 ? std::strtod(argv[5], &wait_end) : -1.0;
+  const bool wait_ok =
+      argc <= 5 || (*argv[5] != '\0' && *wait_end == '\0' && recover_after_s >= 0.0 && recover_after_s <= 86400.0);
+  if (seeds < 1 || !(hours > 0.0) || first_seed < 1 || skip < 0 || !wait_ok) {
+    std::fprintf(stderr,
+                 "usage: sweep [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)] [SKIP_SAMPLES (0)] "
+                 "[RECOVER_AFTER_S (configured), 0-86400]\n");
     return 64;
   }
-  const std::vector<SeedResult> results = bench::run_seeds<SeedResult>(
-      seeds, first_seed, [&](std::uint64_t seed) { return run_seed(seed, hours, static_cast<std::uint64_t>(skip)); });
+  if (recover_after_s >= 0.0)
+    std::printf("estimator.auto.recover_after_s = %g for auto and auto-notemp\n", recover_after_s);
+  const std::vector<SeedResult> results = bench::run_seeds<SeedResult>(seeds, first_seed, [&](std::uint64_t seed) {
+    return run_seed(seed, hours, static_cast<std::uint64_t>(skip), recover_after_s);
+  });
 
   std::printf("%5s %5s %9s %8s | %21s | %9s %9s %9s | %7s\n", "seed", "Hz", "dps/C z", "floor", "auto max / RMS",
               "notemp", "C", "fusion", "in 2sig");

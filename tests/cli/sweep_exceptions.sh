@@ -2,7 +2,8 @@
 # bench/sweep's contract for issue 12's must-show 1: every seed it lists as a loss to C gets one
 # line saying why (bench/loss_trace.hpp), with auto's max above C's, one of the known kinds and the
 # figures of its window. Seeds 1-12 hold two losses today (4 and 12); the test reads
-# the contract, not those figures.
+# the contract, not those figures. And the wait argument (bench/sweep_wait.sh): refused unless a
+# number of seconds in 0-86400, and named in the output when given.
 # Usage: sweep_exceptions.sh SWEEP
 set -uo pipefail
 sweep="$1"
@@ -23,4 +24,11 @@ for s in $seeds; do
       print "seed " s ": unexpected line: " $0; exit 1 }
   }' <<<"$line" || fail "seed $s"
 done
+for bad in abc -1 86401 "" 90x; do
+  "$sweep" 1 0.01 1 0 "$bad" >/dev/null 2>&1
+  [ $? -eq 64 ] || fail "a wait of '$bad' s was not refused with 64"
+done
+waited="$("$sweep" 1 0.01 1 0 120)" || fail "sweep with a wait of 120 s exited with $?"
+grep -q '^estimator.auto.recover_after_s = 120 for auto and auto-notemp$' <<<"$waited" ||
+  fail "the wait given is not named in the output"
 echo "ok: $count losses to C on seeds 1-12 ($seeds), each with its why"
