@@ -170,20 +170,24 @@ class AutoEstimator {
   // bias, with the standard deviation of that difference if still.
   double turning_probability(double deviation_dps, double sd_dps) const;
   // `mean_dps`: the segment's; `predicted_dps`: the bias it was judged against.
-  void count_verdict(bool accepted, const Vec3& mean_dps, const Vec3& predicted_dps);
+  void count_verdict(bool accepted, const Vec3& mean_dps, const Vec3& predicted_dps, double duration_s);
   // The latest verdicts, kept so that a quiet run can ask which of the rejections before it lay
   // at its own level (stops a wrong bias turned away) and not elsewhere (slow motion, which says
   // nothing about the bias): a ring of kVerdictRecords, numbered by verdicts_counted_.
   struct VerdictRecord {
     Vec3 mean_dps = Vec3::Zero();
     Vec3 predicted_dps = Vec3::Zero();
+    double duration_s = 0.0;
     bool rejected = false;
   };
   std::vector<VerdictRecord> verdicts_;
   std::uint64_t verdicts_counted_ = 0;
   // The decayed weight (as judged_weight_ counts) of the rejections before verdict `first` whose
-  // mean lay nearer `level_dps` than the bias they were judged against.
-  double rejections_at_level(const Vec3& level_dps, std::uint64_t first) const;
+  // mean lay nearer `level_dps` than the bias they were judged against; with `agreeing`, only
+  // those whose mean also agrees with the level (LevelMatch::Agreeing).
+  enum class LevelMatch { Nearer, Agreeing };
+  double rejections_at_level(const Vec3& level_dps, std::uint64_t first, LevelMatch match) const;
+  bool agrees_with_level(const VerdictRecord& v, const Vec3& level_dps) const;
   // A rejected segment inside a stop, until the next one is judged: the filter states at its
   // end judged moving and judged still, and the probability that it was still (soft_verdicts).
   struct Outlier {
@@ -262,6 +266,9 @@ class AutoEstimator {
   // long after a short start-up; the next stop does.
   struct Replaced {
     bool pending = false;
+    // The heading shown leans towards the kept level while undecided: not where rejections
+    // near the restarted level (if not at it) have made the restart the likelier choice.
+    bool lean = false;
     bool quiet_run_over = false;  // a cut or a rejected segment has come since the recovery
     double at_t_s = 0.0;
     std::array<AxisFilter::State, 3> as_kept{};
@@ -277,6 +284,7 @@ class AutoEstimator {
   double undecided_offset_deg(double t_s);
   double shown_undecided_deg_ = 0.0;  // in the estimate last filled
   bool recovery_ambiguous_ = false;   // the recovery under way replaces an unconfirmed bias
+  bool recovery_revocable_ = false;   // a later stop may still take it back (ambiguous or not)
   std::uint64_t taken_back_ = 0;
   // For a segment the mean test rejected: if it agrees with the replaced level, puts that level
   // back (the filters now and at the segment's start, the attitude's yaw) and re-judges.

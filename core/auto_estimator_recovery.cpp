@@ -97,13 +97,22 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   // the run's level than the bias they were judged against, beside the accepted segments:
   // slow motion at other levels says nothing about the bias (counted, it restarted the bias
   // on slow turns after a short start-up; random worlds 24, 91, 173 and held-out 289, 378, 379).
-  const double rejected_here = rejections_at_level(quiet_.mean_dps(), quiet_.first_verdict);
-  const double judged_here = rejected_here + quiet_.accepted_before;
-  const bool mostly_rejecting = rejected_here > kMostlyRejecting * judged_here && judged_here >= kFewVerdicts;
+  const auto mostly = [&](LevelMatch match) {
+    const double rejected_here = rejections_at_level(quiet_.mean_dps(), quiet_.first_verdict, match);
+    const double judged_here = rejected_here + quiet_.accepted_before;
+    return rejected_here > kMostlyRejecting * judged_here && judged_here >= kFewVerdicts;
+  };
+  const bool mostly_rejecting = mostly(LevelMatch::Nearer);
   // A recovery of a bias no stop after motion has confirmed is a choice between two quiet
   // levels that only a later stop can make (see Replaced); one made because most of many
   // verdicts were rejections at the run's level is not (a handful of them says nothing).
+  // Rejections merely nearer the run's level than the bias make the restart the likelier
+  // choice (the heading shown does not lean back), but only stops rejected *at* that level make
+  // it final: slow motion at a level between the two, rejected, is no stop (random world 678:
+  // a 0.166 dps creep, then a 0.278 dps one taken for the stop; the stop after it, at the
+  // start-up's level, was rejected for 90 s and 57 deg stayed in the heading).
   recovery_ambiguous_ = !bias_confirmed_ && !mostly_rejecting;
+  recovery_revocable_ = recovery_ambiguous_ || (!bias_confirmed_ && !mostly(LevelMatch::Agreeing));
   if (!bias_confirmed_ || mostly_rejecting || quiet_run_bias_plausible() ||
       quiet_.duration_s >= kUnconditionalRecoveryFactor * settings_.recover_after_s)
     recover_bias();
@@ -248,7 +257,8 @@ void AutoEstimator::recover_bias() {
                                  : std::isfinite(last_still_t_s_) ? last_still_t_s_
                                                                   : run_start_s;
   const double exposed_s = std::max(0.0, run_start_s - trusted_until_s);
-  replaced_.pending = recovery_ambiguous_;
+  replaced_.pending = recovery_revocable_;
+  replaced_.lean = recovery_ambiguous_;
   replaced_.creep_sized = std::abs(mean.z() - quiet_.filters_at_start[2].bias_dps) <= kFastestCreepDps;
   replaced_.run_s = quiet_.duration_s;
   replaced_.still_s = quiet_.duration_s;
@@ -319,7 +329,7 @@ double AutoEstimator::undecided_offset_deg(double t_s) {
   // the run holds still makes it less likely, with odds falling as the square of its length, so
   // a long stop converges on the restart. A faster rate change than a creep's is a turn, not a creep: no share. Only
   // the shown heading and attitude lean (and a heading saved from them); the filters and the tests do not.
-  if (!replaced_.pending || !replaced_.creep_sized) return 0.0;
+  if (!replaced_.pending || !replaced_.lean || !replaced_.creep_sized) return 0.0;
   const double span_s = std::max(0.0, t_s - replaced_.at_t_s);
   if (!replaced_.quiet_run_over) replaced_.still_s = replaced_.run_s + span_s;
   const double odds =

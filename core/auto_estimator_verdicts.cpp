@@ -22,6 +22,10 @@ constexpr double kHintConflictSigmas = 10.0;
 constexpr double kPriorSegments = 20.0;
 constexpr double kVerdictMemory = 0.995;
 constexpr std::size_t kVerdictRecords = 1024;  // 0.995^1024: under 1 % of a verdict's weight is left
+// A stop rejected before a quiet run, at the level the run holds, lies within its own mean's
+// noise and what the bias drifts by between them (a consumer MEMS gyro's bias instability, as
+// the restart bound's floor in auto_estimator_recovery.cpp) of the run's level.
+constexpr double kLevelDriftFloorDps = 0.005;
 // A still segment's block means scatter about one level; where motion starts or stops inside a
 // segment, they move from one level to another, and the segment's mean lies anywhere between
 // (random world 108: the last seconds of a 0.2 dps curve and the first of a stop, accepted
@@ -123,7 +127,7 @@ SegmentVerdict AutoEstimator::close_segment() {
   if (rate_changed && judgement.mean_ok && !verdict.accepted) ++rate_changed_segments_;
   const double deviation_z = mean.z() - filters_[2].bias_dps();
   const double sd_z = std::sqrt(filters_[2].bias_variance() + r.z());
-  count_verdict(verdict.accepted, mean, previous_.predicted_dps);
+  count_verdict(verdict.accepted, mean, previous_.predicted_dps, duration_s);
   previous_accepted_ = verdict.accepted;
   if (verdict.accepted) {
     reinstate_outlier();
@@ -151,15 +155,25 @@ double AutoEstimator::creep_prior() const {
   return (rejected_weight_ + kPriorSegments * settings_.creep_prior) / (judged_weight_ + kPriorSegments);
 }
 
-void AutoEstimator::count_verdict(bool accepted, const Vec3& mean_dps, const Vec3& predicted_dps) {
+void AutoEstimator::count_verdict(bool accepted, const Vec3& mean_dps, const Vec3& predicted_dps, double duration_s) {
   judged_weight_ = kVerdictMemory * judged_weight_ + 1.0;
   rejected_weight_ = kVerdictMemory * rejected_weight_ + (accepted ? 0.0 : 1.0);
   if (verdicts_.size() < kVerdictRecords) verdicts_.resize(kVerdictRecords);
-  verdicts_[verdicts_counted_ % kVerdictRecords] = {mean_dps, predicted_dps, !accepted};
+  verdicts_[verdicts_counted_ % kVerdictRecords] = {mean_dps, predicted_dps, duration_s, !accepted};
   ++verdicts_counted_;
 }
 
-double AutoEstimator::rejections_at_level(const Vec3& level_dps, std::uint64_t first) const {
+bool AutoEstimator::agrees_with_level(const VerdictRecord& v, const Vec3& level_dps) const {
+  const Vec3& white = models_.white_dps2_s();
+  for (Eigen::Index a = 0; a < 3; ++a) {
+    const double sd = std::sqrt(white[a] / std::max(v.duration_s, settings_.min_segment_s) +
+                                kLevelDriftFloorDps * kLevelDriftFloorDps);
+    if (std::abs(v.mean_dps[a] - level_dps[a]) > settings_.k_mean * sd) return false;
+  }
+  return true;
+}
+
+double AutoEstimator::rejections_at_level(const Vec3& level_dps, std::uint64_t first, LevelMatch match) const {
   // Nearer in the white noise's own scale on each axis: a vibrating axis counts for little.
   const Vec3 white = models_.white_dps2_s().cwiseMax(std::numeric_limits<double>::min());
   const std::uint64_t oldest = verdicts_counted_ > kVerdictRecords ? verdicts_counted_ - kVerdictRecords : 0;
@@ -172,7 +186,7 @@ double AutoEstimator::rejections_at_level(const Vec3& level_dps, std::uint64_t f
     if (!v.rejected) continue;
     const double to_level = ((v.mean_dps - level_dps).cwiseAbs2().array() / white.array()).sum();
     const double to_bias = ((v.mean_dps - v.predicted_dps).cwiseAbs2().array() / white.array()).sum();
-    if (to_level < to_bias) weight += decay;
+    if (to_level < to_bias && (match == LevelMatch::Nearer || agrees_with_level(v, level_dps))) weight += decay;
   }
   return weight;
 }
