@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <numbers>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/estimator.hpp"
@@ -89,9 +90,27 @@ core::EstimatorSettings settings_for(Method m, double recover_after_s) {
   return s;
 }
 
+// The die temperature as the L3GD20H reports it: OUT_TEMP holds whole degrees (-1 LSB/degC) and
+// is refreshed at 1 Hz (datasheet section 7.8, Table 5); the driver reads 25 - OUT_TEMP
+// (hw/l3gd20h.cpp), the chip simulator writes lround(25 - T) (sim/l3gd20h_sim.cpp). The random
+// worlds' temperature is otherwise as fine as a double.
+struct ChipThermometer {
+  double held_c = 0.0;
+  double next_refresh_s = 0.0;
+  double read(double t_s, double true_c) {
+    if (t_s >= next_refresh_s) {
+      held_c = 25.0 - static_cast<double>(std::lround(25.0 - true_c));
+      next_refresh_s = t_s + 1.0;
+    }
+    return held_c;
+  }
+};
+
 // `skip`: samples the simulator runs before the estimators see the first one (the world is the
-// same; only where the 3 s segment grid falls in it moves).
-SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip, double recover_after_s) {
+// same; only where the 3 s segment grid falls in it moves). `chip_temperature`: the estimators
+// read the temperature as the chip reports it (ChipThermometer), the truth stays exact.
+SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip, double recover_after_s,
+                    bool chip_temperature) {
   drivers::GyroSimulator sim(*drivers::build_scenario("random", seed, hours), seed);
   const drivers::NoiseModel& noise = sim.scenario().noise;
   SeedResult r;
@@ -109,10 +128,12 @@ SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip, double
   std::uint64_t within = 0, outputs = 0;
   std::array<std::uint64_t, kSigmaScales.size()> within_scaled{};
   bench::LossTrace trace;
+  ChipThermometer thermometer;
   for (std::uint64_t k = 0; k < skip && !sim.done(); ++k) sim.step(sample, truth);
   if (skip > 0) truth_at_start_deg = truth.heading_deg;
   for (std::uint64_t i = 0; !sim.done(); ++i) {
     sim.step(sample, truth);
+    if (chip_temperature) sample.temp_c = thermometer.read(sample.t_s, sample.temp_c);
     truth.heading_deg -= truth_at_start_deg;
     const double dt_s = i == 0 ? 0.0 : sample.t_s - previous_t;
     previous_t = sample.t_s;
@@ -152,7 +173,18 @@ double quantile(std::vector<double> v, double q) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int main(int argc_in, char** argv_in) {
+  // --chip-temperature, anywhere: the temperature as the L3GD20H reports it (ChipThermometer).
+  std::vector<char*> args;
+  bool chip_temperature = false;
+  for (int i = 0; i < argc_in; ++i) {
+    if (std::string_view(argv_in[i]) == "--chip-temperature")
+      chip_temperature = true;
+    else
+      args.push_back(argv_in[i]);
+  }
+  const int argc = static_cast<int>(args.size());
+  char** argv = args.data();
   const long seeds = argc > 1 ? std::strtol(argv[1], nullptr, 10) : 200;
   const double hours = argc > 2 ? std::strtod(argv[2], nullptr) : 2.0;
   // Another range than 1..SEEDS: seeds the estimator's choices were not judged on (held out).
@@ -166,14 +198,16 @@ int main(int argc, char** argv) {
       argc <= 5 || (*argv[5] != '\0' && *wait_end == '\0' && recover_after_s >= 0.0 && recover_after_s <= 86400.0);
   if (seeds < 1 || !(hours > 0.0) || first_seed < 1 || skip < 0 || !wait_ok) {
     std::fprintf(stderr,
-                 "usage: sweep [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)] [SKIP_SAMPLES (0)] "
+                 "usage: sweep [--chip-temperature] [SEEDS (200)] [HOURS (2)] [FIRST_SEED (1)] [SKIP_SAMPLES (0)] "
                  "[RECOVER_AFTER_S (configured), 0-86400]\n");
     return 64;
   }
   if (recover_after_s >= 0.0)
     std::printf("estimator.auto.recover_after_s = %g for auto and auto-notemp\n", recover_after_s);
+  if (chip_temperature)
+    std::printf("temperature as the L3GD20H reports it: whole degrees, refreshed at 1 Hz (--chip-temperature)\n");
   const std::vector<SeedResult> results = bench::run_seeds<SeedResult>(seeds, first_seed, [&](std::uint64_t seed) {
-    return run_seed(seed, hours, static_cast<std::uint64_t>(skip), recover_after_s);
+    return run_seed(seed, hours, static_cast<std::uint64_t>(skip), recover_after_s, chip_temperature);
   });
 
   std::printf("%5s %5s %9s %8s | %21s | %9s %9s %9s | %7s\n", "seed", "Hz", "dps/C z", "floor", "auto max / RMS",

@@ -168,8 +168,11 @@ void AutoEstimator::bias_measured_at(double temp_c) {
 // One sample: hold still while the start-up segment measures; otherwise close the segment
 // when it is full or the range gate trips (judge it, apply the verdict), propagate the filter
 // and the attitude with the sample, and report.
-const Estimate& AutoEstimator::update(const Sample& sample) {
+const Estimate& AutoEstimator::update(const Sample& reported) {
   estimate_.closed = SegmentVerdict{};
+  reported_temp_c_ = reported.temp_c;
+  Sample sample = reported;
+  sample.temp_c = temperature_reading_.take(sample.t_s, sample.temp_c);
   if (!started_) {
     start(sample);
     return estimate_;
@@ -282,7 +285,7 @@ Vec3 AutoEstimator::bias_dps() const {
 void AutoEstimator::fill_estimate(const Sample& sample) {
   const Vec3 bias = bias_dps();
   estimate_.t_s = sample.t_s;
-  estimate_.temp_c = sample.temp_c;
+  estimate_.temp_c = reported_temp_c_;  // what the sensor said, not the estimator's reading of it
   const double undecided_deg = undecided_offset_deg(sample.t_s);
   shown_undecided_deg_ = undecided_deg;
   estimate_.heading_deg = filters_[2].angle_deg() + undecided_deg;
@@ -314,6 +317,7 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
   constexpr std::size_t kChunk = 128;
   std::array<double, kChunk> dts;
   std::array<AttitudeIntegrator::Turn, kChunk> turns;
+  std::array<double, kChunk> temps;
   const Vec3 gate_dps = settings_.k_range * models_.sigma_still_dps();  // the segment under way has samples
   const double gain = scale_.gain();
   std::size_t taken = 0;
@@ -335,9 +339,11 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
         special = true;
         break;
       }
-      if (n > 0 && models_.follows_temperature(sample.temp_c, previous_temp_c_)) break;  // the next chunk's first
-      if (n == 0) follow_temperature(sample.temp_c, sample.t_s);
-      previous_temp_c_ = sample.temp_c;
+      const double temp_c = temperature_reading_.take(sample.t_s, sample.temp_c);  // the same when asked again
+      if (n > 0 && models_.follows_temperature(temp_c, previous_temp_c_)) break;   // the next chunk's first
+      if (n == 0) follow_temperature(temp_c, sample.t_s);
+      previous_temp_c_ = temp_c;
+      temps[n] = temp_c;
       low = low_with, high = high_with;
       dts[n] = sample.t_s - previous_t_s;
       previous_t_s = sample.t_s;
@@ -349,8 +355,8 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
     segment_.blocks.add_run(chunk, dts.data(), n);
     for (std::size_t k = 0; k < n; ++k) {
       segment_.duration_s += dts[k];
-      if (std::isfinite(chunk[k].temp_c)) {
-        segment_.temp_sum_c += chunk[k].temp_c;
+      if (std::isfinite(temps[k])) {
+        segment_.temp_sum_c += temps[k];
         ++segment_.temp_count;
       }
     }
@@ -375,7 +381,10 @@ std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, dou
     attitude_.add_all(turns.data(), n);
     taken += n;
   }
-  if (taken > 0) fill_estimate(samples[taken - 1]);
+  if (taken > 0) {
+    reported_temp_c_ = samples[taken - 1].temp_c;
+    fill_estimate(samples[taken - 1]);
+  }
   return taken;
 }
 

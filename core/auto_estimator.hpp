@@ -29,6 +29,7 @@
 #include "core/segment_stats.hpp"
 #include "core/sensor_models.hpp"
 #include "core/temperature_model.hpp"
+#include "core/temperature_reading.hpp"
 
 namespace headingd::core {
 
@@ -328,7 +329,9 @@ class AutoEstimator {
   bool started_ = false;
   bool in_startup_ = true;
   double previous_t_s_ = 0.0;
-  double previous_temp_c_ = 0.0;
+  double previous_temp_c_ = 0.0;  // as the estimator reads it (TemperatureReading)
+  TemperatureReading temperature_reading_;
+  double reported_temp_c_ = 0.0;  // the sample's own, for the estimate
   std::uint64_t segment_index_ = 0;
   std::uint64_t accepted_ = 0;
   std::uint64_t rejected_ = 0;

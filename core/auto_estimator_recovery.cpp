@@ -122,7 +122,8 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
 
 void AutoEstimator::forget_models_the_run_refutes() {
   LevelSlope::Fit fit;
-  if (!settings_.use_temperature || !quiet_.slope.fit(models_.white_dps2_s(), fit)) return;
+  if (!settings_.use_temperature || !quiet_.slope.fit(models_.white_dps2_s(), fit, temperature_reading_.variance_c2()))
+    return;
   for (int axis = 0; axis < 3; ++axis) {
     const TemperatureModel& model = models_.temperature_model(axis);
     if (!model.ready()) continue;

@@ -16,7 +16,7 @@ void LevelSlope::add(double weight_s, double temp_c, const Vec3& level_dps) {
   sum_wyy_ += weight_s * level_dps.cwiseAbs2();
 }
 
-bool LevelSlope::fit(const Vec3& white_dps2_s, Fit& out) const {
+bool LevelSlope::fit(const Vec3& white_dps2_s, Fit& out, double reading_variance_c2) const {
   if (count_ < 3) return false;
   const double mean_t = sum_wt_ / sum_w_;
   const double sxx = sum_wtt_ - sum_wt_ * mean_t;  // sum w (T - mean)^2, s C^2
@@ -32,7 +32,7 @@ bool LevelSlope::fit(const Vec3& white_dps2_s, Fit& out) const {
     const double rss = std::max(0.0, syy - slope * sxy);
     const double per_weight = std::max(white_dps2_s[a], rss / (count_ - 2));
     out.slope_dps_per_c[a] = slope;
-    out.slope_variance[a] = per_weight / sxx;
+    out.slope_variance[a] = per_weight / sxx + slope * slope * reading_variance_c2 * sum_w_ / sxx;
   }
   return out.slope_dps_per_c.allFinite() && out.slope_variance.allFinite();
 }

@@ -22,8 +22,11 @@ class LevelSlope {
   };
   // The slope and its variance, the noise taken as the larger of the residuals' and
   // `white_dps2_s` (N^2: a segment of length d has mean variance N^2 / d). False with fewer than
-  // three segments or no temperature spread.
-  bool fit(const Vec3& white_dps2_s, Fit& out) const;
+  // three segments or no temperature spread. `reading_variance_c2`: the variance of each
+  // temperature's own error (1/12 for readings rounded to whole degrees, TemperatureReading):
+  // an error in the temperatures scales the slope by as much relative to their spread, and the
+  // residuals do not show it when it changes slowly (errors in variables).
+  bool fit(const Vec3& white_dps2_s, Fit& out, double reading_variance_c2 = 0.0) const;
 
  private:
   std::uint32_t count_ = 0;

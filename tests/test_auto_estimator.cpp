@@ -713,14 +713,22 @@ TEST(AutoEstimator, AStopAfterAWarmUpMeasuresTheBiasTheTemperatureMoved) {
 TEST(AutoEstimator, TheFastPathMovesTheStateExactlyAsUpdateDoes) {
   // A replay takes the samples nobody looks at through Estimator::advance: a random world
   // (turns, creep, stops, temperature) fed once sample by sample and once in runs of random
-  // length must agree bit for bit wherever the fast path hands back, and at the end.
-  for (const std::uint64_t seed : {3u, 8u}) {
+  // length must agree bit for bit wherever the fast path hands back, and at the end. Seed 8 a
+  // second time with the temperature in whole degrees, once a second, as the L3GD20H reports it
+  // (the estimator reconstructs it between steps: TemperatureReading).
+  for (const auto& [seed, whole_degrees] : {std::pair{3u, false}, std::pair{8u, false}, std::pair{8u, true}}) {
     headingd::drivers::GyroSimulator sim(*headingd::drivers::build_scenario("random", seed, 0.25), seed);
     std::vector<Sample> samples;
     Sample sample;
     headingd::drivers::TruthPoint truth;
+    double read_c = 0.0, next_read_s = 0.0;
     while (!sim.done()) {
       sim.step(sample, truth);
+      if (whole_degrees && sample.t_s >= next_read_s) {
+        read_c = std::round(sample.temp_c);
+        next_read_s = sample.t_s + 1.0;
+      }
+      if (whole_degrees) sample.temp_c = read_c;
       samples.push_back(sample);
     }
     Estimator one_by_one;
@@ -747,7 +755,7 @@ TEST(AutoEstimator, TheFastPathMovesTheStateExactlyAsUpdateDoes) {
       ASSERT_EQ(got.segment_index, want.segment_index) << "sample " << i;
       ++checked;
     }
-    SCOPED_TRACE("seed " + std::to_string(seed));
+    SCOPED_TRACE("seed " + std::to_string(seed) + (whole_degrees ? ", whole degrees" : ""));
     EXPECT_EQ(fast.samples(), one_by_one.samples());
     EXPECT_EQ(fast.accepted_segments(), one_by_one.accepted_segments());
     EXPECT_EQ(fast.rejected_segments(), one_by_one.rejected_segments());
