@@ -19,6 +19,7 @@
 #include "core/estimator.hpp"
 #include "loss_trace.hpp"
 #include "seed_pool.hpp"
+#include "sim/chip_thermometer.hpp"
 #include "sim/gyro_simulator.hpp"
 
 using namespace headingd;
@@ -90,22 +91,6 @@ core::EstimatorSettings settings_for(Method m, double recover_after_s) {
   return s;
 }
 
-// The die temperature as the L3GD20H reports it: OUT_TEMP holds whole degrees (-1 LSB/degC) and
-// is refreshed at 1 Hz (datasheet section 7.8, Table 5); the driver reads 25 - OUT_TEMP
-// (hw/l3gd20h.cpp), the chip simulator writes lround(25 - T) (sim/l3gd20h_sim.cpp). The random
-// worlds' temperature is otherwise as fine as a double.
-struct ChipThermometer {
-  double held_c = 0.0;
-  double next_refresh_s = 0.0;
-  double read(double t_s, double true_c) {
-    if (t_s >= next_refresh_s) {
-      held_c = 25.0 - static_cast<double>(std::lround(25.0 - true_c));
-      next_refresh_s = t_s + 1.0;
-    }
-    return held_c;
-  }
-};
-
 // `skip`: samples the simulator runs before the estimators see the first one (the world is the
 // same; only where the 3 s segment grid falls in it moves). `chip_temperature`: the estimators
 // read the temperature as the chip reports it (ChipThermometer), the truth stays exact.
@@ -128,7 +113,7 @@ SeedResult run_seed(std::uint64_t seed, double hours, std::uint64_t skip, double
   std::uint64_t within = 0, outputs = 0;
   std::array<std::uint64_t, kSigmaScales.size()> within_scaled{};
   bench::LossTrace trace;
-  ChipThermometer thermometer;
+  drivers::ChipThermometer thermometer;  // --chip-temperature: as the L3GD20H reports it
   for (std::uint64_t k = 0; k < skip && !sim.done(); ++k) sim.step(sample, truth);
   if (skip > 0) truth_at_start_deg = truth.heading_deg;
   for (std::uint64_t i = 0; !sim.done(); ++i) {

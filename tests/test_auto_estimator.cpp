@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/estimator.hpp"
+#include "sim/chip_thermometer.hpp"
 #include "sim/gyro_simulator.hpp"
 
 using namespace headingd::core;
@@ -721,14 +722,10 @@ TEST(AutoEstimator, TheFastPathMovesTheStateExactlyAsUpdateDoes) {
     std::vector<Sample> samples;
     Sample sample;
     headingd::drivers::TruthPoint truth;
-    double read_c = 0.0, next_read_s = 0.0;
+    headingd::drivers::ChipThermometer chip;
     while (!sim.done()) {
       sim.step(sample, truth);
-      if (whole_degrees && sample.t_s >= next_read_s) {
-        read_c = std::round(sample.temp_c);
-        next_read_s = sample.t_s + 1.0;
-      }
-      if (whole_degrees) sample.temp_c = read_c;
+      if (whole_degrees) sample.temp_c = chip.read(sample.t_s, sample.temp_c);
       samples.push_back(sample);
     }
     Estimator one_by_one;

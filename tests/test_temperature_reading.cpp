@@ -7,24 +7,13 @@
 
 #include "core/level_slope.hpp"
 #include "core/temperature_reading.hpp"
+#include "sim/chip_thermometer.hpp"
 
 using headingd::core::LevelSlope;
 using headingd::core::TemperatureReading;
 using headingd::core::Vec3;
 
 namespace {
-
-// The chip's register: whole degrees, refreshed once a second (sim/l3gd20h_sim.cpp's rounding).
-struct WholeDegreeThermometer {
-  double held_c = 0.0, next_s = 0.0;
-  double read(double t_s, double true_c) {
-    if (t_s >= next_s) {
-      held_c = 25.0 - static_cast<double>(std::lround(25.0 - true_c));
-      next_s = t_s + 1.0;
-    }
-    return held_c;
-  }
-};
 
 struct Errors {
   double reconstructed_rms = 0.0, rounded_rms = 0.0, reconstructed_max = 0.0;
@@ -36,7 +25,7 @@ struct Errors {
 template <typename Truth>
 Errors errors_on(Truth truth_c) {
   TemperatureReading reading;
-  WholeDegreeThermometer chip;
+  headingd::drivers::ChipThermometer chip;
   double sum_reconstructed = 0.0, sum_rounded = 0.0, previous_c = std::numeric_limits<double>::quiet_NaN();
   int steps = 0;
   long counted = 0;
