@@ -207,7 +207,10 @@ TEST(NoiseDensity, BlockMeansRecoverWhiteNoiseDensityThroughALowPass) {
 TEST(NoiseDensity, BlockMeansTrendIsTheRampsSlopeAndItsSigmaIsHonestOnNoise) {
   // A ramp of 0.1 dps per block on z: the slope exactly, none on a constant axis.
   BlockMeans ramp(0.1);
-  for (int i = 0; i < 1200; ++i) ramp.add(Vec3(0.3, 0.0, 0.1 * static_cast<double>(i / 40)), 1.0 / 400.0);
+  for (int i = 0; i < 1200; ++i) {
+    const int block = i / 40;  // the level steps once per block of 40 samples
+    ramp.add(Vec3(0.3, 0.0, 0.1 * static_cast<double>(block)), 1.0 / 400.0);
+  }
   ASSERT_EQ(ramp.blocks(), 30u);
   EXPECT_NEAR(ramp.trend_per_block().z(), 0.1, 1e-12);
   EXPECT_NEAR(ramp.trend_per_block().x(), 0.0, 1e-12);
