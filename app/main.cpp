@@ -8,6 +8,7 @@
 #include "app/run_command.hpp"
 #include "core/version.hpp"
 #include "service/exit_codes.hpp"
+#include "service/signals.hpp"
 #include "tools/allan_command.hpp"
 #include "tools/echo_command.hpp"
 #include "tools/plot_command.hpp"
@@ -202,12 +203,16 @@ int main(int argc, char** argv) {
         for (const auto& name : option->get_lnames()) options.sensor_given.insert("--" + name);
   };
   if (run_cmd->parsed()) {
+    // A daemon can be stopped while it is still opening its sensor and joining DDS (systemd
+    // stops a unit whenever it likes): from here on SIGTERM ends it through the same shutdown.
+    app::install_stop_signals();
     given(run_cmd, run);
     return app::run_live(run);
   }
   if (echo_cmd->parsed()) return app::run_echo(echo);
   if (command_cmd->parsed()) return app::run_command(command);
   if (record_cmd->parsed()) {
+    app::install_stop_signals();
     given(record_cmd, record);
     return app::run_record(record, record_output, record_duration_s);
   }

@@ -45,7 +45,11 @@ run_case() {
   [ "$rc" -ne 90 ] || fail "$name: cannot mount a private /dev/shm (needs root)"
   [ "$rc" -eq "$expected" ] || fail "$name: exit $rc, expected $expected: $(tail -5 "$case_dir/stderr")"
   grep -qx "STOPPING=1" "$case_dir/notify.log" || fail "$name: no STOPPING=1 (got: $(tr '\n' ' ' <"$case_dir/notify.log"))"
-  grep -qx "READY=1" "$case_dir/notify.log" || fail "$name: no READY=1"
+  # A run stopped a third of a second after its start may not have reached READY=1 yet (under
+  # the sanitizers on a loaded machine start-up takes longer): STOPPING=1 is what it owes then.
+  if [ "$name" != dds-discovery ]; then
+    grep -qx "READY=1" "$case_dir/notify.log" || fail "$name: no READY=1"
+  fi
   [ -f "$case_dir/state" ] || fail "$name: no state file"
   local saved
   saved=$(sed -n 's/^saved_unix_s=\([0-9]*\).*/\1/p' "$case_dir/state")
