@@ -61,11 +61,11 @@ double TemperatureReading::value_at(double t_s) const {
   if (!have_crossing_) return reading_c_;
   const double since_s = std::max(0.0, t_s - crossing_t_s_);
   if (rate_c_per_s_ == 0.0) {
-    // A first step, or a step back with no rate before it: no rate to follow. A temperature dithering about the
-    // midpoint steps again within about the gap before this step (twice it: the time spent on
-    // either side varies), so the midpoint holds that long; a step that does not come says the
-    // temperature has moved into the reading's band and, which side unknown, its middle becomes
-    // the best guess.
+    // A first step, or a step back with no rate before it: no rate to follow. A temperature
+    // dithering about the midpoint steps again within about the gap before this step (twice
+    // it: the time spent on either side varies), so the midpoint holds that long; a step that
+    // does not come says the temperature has moved into the reading's band and, which side
+    // unknown, its middle becomes the best guess.
     if (since_s <= hold_s_) return crossing_c_;
     return reading_c_ - 0.5 * direction_ * std::exp(-(since_s - hold_s_) / hold_s_);
   }
