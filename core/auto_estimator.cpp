@@ -116,6 +116,11 @@ HEADINGD_HOT bool AutoEstimator::range_gate_trips(const Vec3& rate_dps) const {
 }
 
 HEADINGD_HOT void AutoEstimator::follow_temperature(double temp_c, double t_s) {
+  // The kept version of a pending recovery: the temperature's integral since (its angle's share).
+  if (replaced_.pending && std::isfinite(previous_temp_c_) && std::isfinite(replaced_.temp_at_c)) {
+    replaced_.warmed_c_s += (previous_temp_c_ - replaced_.temp_at_c) * std::max(0.0, t_s - replaced_.warmed_t_s);
+    replaced_.warmed_t_s = t_s;
+  }
   if (!models_.follows_temperature(temp_c, previous_temp_c_)) return;
   for (int axis = 0; axis < 3; ++axis) {
     double shift = 0.0, slope_variance = 0.0;

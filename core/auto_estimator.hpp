@@ -278,6 +278,14 @@ class AutoEstimator {
     double run_s = 0.0;                           // the quiet run's length at the recovery
     double still_s = 0.0;                         // its length with the still time after the recovery, until motion
     SensorModels::TemperatureModels models_kept;  // the temperature models the recovery started over
+    // The temperature's share in the kept version's bias sigma goes on growing (follow_temperature
+    // does it for the filters): where the kept version measured its bias, the change since then
+    // at the recovery, and the temperature's integral since the recovery.
+    std::array<double, 3> kept_temp_at_bias_c{};
+    std::array<double, 3> kept_temp_integral_c_s{};
+    double temp_at_c = 0.0;
+    double warmed_c_s = 0.0;  // integral of (T - temp_at_c) dt since the recovery
+    double warmed_t_s = 0.0;
   };
   Replaced replaced_;
   // The heading shown while a creep-sized recovery is undecided leans towards the kept level by
@@ -292,6 +300,10 @@ class AutoEstimator {
   bool take_back_recovery(SegmentEvidence& evidence, Judgement& judgement);
   // A filter state `now` (at time `t_s`) as it would be had the recovery not happened.
   AxisFilter::State as_if_kept(std::size_t axis, const AxisFilter::State& now, double t_s) const;
+  // The temperature's share the kept version's covariance gathers over `span_s` after the recovery.
+  void add_kept_temperature_share(std::size_t axis, double span_s, AxisFilter::Plain& p) const;
+  // The odds that an undecided recovery's quiet run was a creep, against a stop.
+  double creep_odds() const;
   // The bias still rests on the start-up segment alone (and segments running on from it).
   bool bias_from_startup_only_ = false;
   double startup_start_t_s_ = std::numeric_limits<double>::quiet_NaN();  // or the first sample's

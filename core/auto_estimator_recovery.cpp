@@ -196,9 +196,47 @@ AxisFilter::State AutoEstimator::as_if_kept(std::size_t axis, const AxisFilter::
   kept.restore(replaced_.as_kept[axis]);
   AxisFilter::Plain p = kept.plain();
   AxisFilter::propagate(p, 0.0, span_s, models_.white_dps2_s()[static_cast<Eigen::Index>(axis)], walk_dps2_per_s_);
+  if (replaced_.lean && replaced_.creep_sized && creep_odds() >= 1.0) add_kept_temperature_share(axis, span_s, p);
   AxisFilter::State state = filter.state();
   state.covariance << p.p00, p.p01, p.p01, p.p11;
   return state;
+}
+
+void AutoEstimator::add_kept_temperature_share(std::size_t axis, double span_s, AxisFilter::Plain& p) const {
+  // The filters' bias sigma grows with the temperature's change since their bias was measured
+  // (follow_temperature); the kept version's would have too, and it was measured before the
+  // recovery, often at the start of a warm-up: without that share a stop after it sees the
+  // kept level, carried unchanged, as far from a bias the warm-up moved as from the restarted
+  // one (random world 628: a creep held 90 s restarted a start-up bias measured 14 C colder,
+  // no stop could take it back, and the restart after it kept the creep's heading: 359 deg).
+  // The same rank-one share as follow_temperature's, from the kept measurement's temperature:
+  // the slope's error k moves the bias by k (T - T0) and the angle by -k times the integral
+  // of (T - T0) dt; what it had reached at the recovery (and carried since) is in the kept
+  // covariance already, so only the growth is added. Only while the restart is likelier a
+  // creep (creep_odds): once the quiet run has held still for long, a later rejection the
+  // widened kept level admits is no match for it (random world 206: a 280 s stop taken back,
+  // 7.6 deg -> 15.6).
+  const double at_c = replaced_.kept_temp_at_bias_c[axis];
+  if (!settings_.use_temperature || !std::isfinite(at_c) || !std::isfinite(previous_temp_c_) ||
+      !std::isfinite(replaced_.temp_at_c))
+    return;
+  const TemperatureModel& model = replaced_.models_kept[axis];
+  const double unmodelled = settings_.unmodelled_bias_per_c_dps;
+  const double s2 = model.ready() ? model.slope_variance() : unmodelled * unmodelled;
+  const double at_recovery_c = replaced_.temp_at_c - at_c;
+  const double now_c = previous_temp_c_ - at_c;
+  p.p11 += s2 * std::max(0.0, now_c * now_c - at_recovery_c * at_recovery_c);
+  if (axis != 2) return;  // only the heading's angle is kept (as in follow_temperature)
+  const double carried_c_s = replaced_.kept_temp_integral_c_s[axis] + at_recovery_c * span_s;
+  const double now_c_s = carried_c_s + replaced_.warmed_c_s;
+  p.p01 += s2 * (at_recovery_c * carried_c_s - now_c * now_c_s);
+  p.p00 += s2 * std::max(0.0, now_c_s * now_c_s - carried_c_s * carried_c_s);
+  const double limit = std::sqrt(p.p00 * p.p11);  // a temperature turning back: kept positive
+  p.p01 = std::clamp(p.p01, -limit, limit);
+}
+
+double AutoEstimator::creep_odds() const {
+  return kCreepOddsAtWait * std::pow(replaced_.run_s / std::max(replaced_.still_s, replaced_.run_s), kCreepOddsPower);
 }
 
 bool AutoEstimator::take_back_recovery(SegmentEvidence& evidence, Judgement& judgement) {
@@ -265,6 +303,11 @@ void AutoEstimator::recover_bias() {
   replaced_.still_s = quiet_.duration_s;
   replaced_.quiet_run_over = false;
   replaced_.at_t_s = segment_.start_t_s + segment_.duration_s;
+  replaced_.kept_temp_at_bias_c = temp_at_bias_c_;
+  for (std::size_t axis = 0; axis < 3; ++axis) replaced_.kept_temp_integral_c_s[axis] = temp_change_integral_now(axis);
+  replaced_.temp_at_c = previous_temp_c_;
+  replaced_.warmed_c_s = 0.0;
+  replaced_.warmed_t_s = previous_t_s_;
   double yaw_correction_deg = 0.0;
   // A level a stop measured before (the bias never moved; creeps, a temperature model or a bias
   // set from outside took the estimate away from it): the heading since that stop owes the
@@ -333,8 +376,7 @@ double AutoEstimator::undecided_offset_deg(double t_s) {
   if (!replaced_.pending || !replaced_.lean || !replaced_.creep_sized) return 0.0;
   const double span_s = std::max(0.0, t_s - replaced_.at_t_s);
   if (!replaced_.quiet_run_over) replaced_.still_s = replaced_.run_s + span_s;
-  const double odds =
-      kCreepOddsAtWait * std::pow(replaced_.run_s / std::max(replaced_.still_s, replaced_.run_s), kCreepOddsPower);
+  const double odds = creep_odds();
   const double kept_share = odds / (1.0 + odds);
   const AxisFilter::State& kept = replaced_.as_kept[2];
   const AxisFilter::State& restarted = replaced_.as_restarted[2];
