@@ -278,14 +278,12 @@ class AutoEstimator {
     double run_s = 0.0;                           // the quiet run's length at the recovery
     double still_s = 0.0;                         // its length with the still time after the recovery, until motion
     SensorModels::TemperatureModels models_kept;  // the temperature models the recovery started over
-    // The temperature's share in the kept version's bias sigma goes on growing (follow_temperature
-    // does it for the filters): where the kept version measured its bias, the change since then
-    // at the recovery, and the temperature's integral since the recovery.
-    std::array<double, 3> kept_temp_at_bias_c{};
-    std::array<double, 3> kept_temp_integral_c_s{};
-    double temp_at_c = 0.0;
-    double warmed_c_s = 0.0;  // integral of (T - temp_at_c) dt since the recovery
-    double warmed_t_s = 0.0;
+    // What the kept version's temperature share grows from (add_kept_temperature_share):
+    std::array<double, 3> kept_temp_at_bias_c{};     // T where the kept version measured its bias
+    std::array<double, 3> kept_temp_integral_c_s{};  // integral of (T - that T) dt, up to the recovery
+    double temp_at_c = 0.0;                          // T at the recovery
+    double warmed_c_s = 0.0;                         // integral of (T - temp_at_c) dt since the recovery
+    double warmed_t_s = 0.0;                         // when warmed_c_s was last summed
   };
   Replaced replaced_;
   // The heading shown while a creep-sized recovery is undecided leans towards the kept level by

@@ -226,7 +226,7 @@ void AutoEstimator::add_kept_temperature_share(std::size_t axis, double span_s, 
   const double at_recovery_c = replaced_.temp_at_c - at_c;
   const double now_c = previous_temp_c_ - at_c;
   p.p11 += s2 * std::max(0.0, now_c * now_c - at_recovery_c * at_recovery_c);
-  if (axis != 2) return;  // only the heading's angle is kept (as in follow_temperature)
+  if (axis != 2) return;  // the angle's terms for the heading's axis only, as in follow_temperature
   const double carried_c_s = replaced_.kept_temp_integral_c_s[axis] + at_recovery_c * span_s;
   const double now_c_s = carried_c_s + replaced_.warmed_c_s;
   p.p01 += s2 * (at_recovery_c * carried_c_s - now_c * now_c_s);
