@@ -2,7 +2,8 @@
 // about the vertical of q_true * q_est^-1 (earth frame), the estimate aligned to the true
 // orientation at the first valid sample, RMSE over the samples the dataset marks as moving.
 // Also integrates the raw gyro twice for reference: with no bias removal, and with the bias
-// taken by hand as the mean of the first rest.
+// taken by hand as the mean of the first rest. For estimates with a heading sigma, the share of
+// moving samples within twice it.
 // Usage: broad_heading_error TRUTH.csv IMU.csv [LABEL=ESTIMATES.csv ...]
 //        (estimates written by `headingd replay --output-rate 0`, one row per IMU sample)
 #include <Eigen/Geometry>
@@ -56,7 +57,8 @@ std::vector<TruthRow> read_truth(const std::string& path) {
   return rows;
 }
 
-std::map<long long, Quat> read_estimates(const std::string& path) {
+// The estimates' attitude and, where the file has one, their heading sigma (NaN otherwise).
+std::map<long long, Quat> read_estimates(const std::string& path, std::map<long long, double>* sigmas = nullptr) {
   std::ifstream in(path);
   std::map<long long, Quat> rows;
   std::string line;
@@ -67,7 +69,10 @@ std::map<long long, Quat> read_estimates(const std::string& path) {
     const auto t = drivers::parse_double(f.items[0]);
     const auto w = drivers::parse_double(f.items[2]), x = drivers::parse_double(f.items[3]),
                y = drivers::parse_double(f.items[4]), z = drivers::parse_double(f.items[5]);
-    if (t && w && x && y && z) rows.emplace(key(*t), Quat(*w, *x, *y, *z).normalized());
+    if (!(t && w && x && y && z)) continue;
+    rows.emplace(key(*t), Quat(*w, *x, *y, *z).normalized());
+    if (sigmas != nullptr)
+      sigmas->emplace(key(*t), f.count > 9 ? drivers::parse_double(f.items[9]).value_or(NAN) : NAN);
   }
   return rows;
 }
@@ -79,12 +84,12 @@ double heading_error_deg(const Quat& truth, const Quat& estimate) {
   return core::rad_to_deg(angle);
 }
 
-// RMSE during movement, the estimate aligned to the truth at the first valid sample.
-double rmse(const std::vector<TruthRow>& truth, const std::map<long long, Quat>& estimate) {
+// Calls `use(key, heading error)` for each sample the dataset marks as moving, the estimate
+// aligned to the truth at the first valid sample.
+template <typename Use>
+void for_each_moving_error(const std::vector<TruthRow>& truth, const std::map<long long, Quat>& estimate, Use use) {
   bool aligned = false;
   Quat align = Quat::Identity();
-  double sum = 0.0;
-  std::size_t n = 0;
   for (const auto& row : truth) {
     const auto it = estimate.find(key(row.t_s));
     if (it == estimate.end() || !row.valid) continue;
@@ -92,12 +97,36 @@ double rmse(const std::vector<TruthRow>& truth, const std::map<long long, Quat>&
       align = row.q * it->second.inverse();
       aligned = true;
     }
-    if (!row.moving) continue;
-    const double e = heading_error_deg(row.q, align * it->second);
+    if (row.moving) use(it->first, heading_error_deg(row.q, align * it->second));
+  }
+}
+
+// RMSE during movement.
+double rmse(const std::vector<TruthRow>& truth, const std::map<long long, Quat>& estimate) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for_each_moving_error(truth, estimate, [&](long long, double e) {
     sum += e * e;
     ++n;
-  }
+  });
   return n ? std::sqrt(sum / static_cast<double>(n)) : NAN;
+}
+
+// The share of moving samples whose heading error lies within twice the estimate's own heading
+// sigma: the sigma's honesty on a recording we did not make. NaN where the estimates carry no
+// sigma (the paper's methods).
+double within_two_sigma(const std::vector<TruthRow>& truth, const std::map<long long, Quat>& estimate,
+                        const std::map<long long, double>& sigma) {
+  std::size_t inside = 0, n = 0;
+  bool has_sigma = true;
+  for_each_moving_error(truth, estimate, [&](long long k, double e) {
+    const auto s = sigma.find(k);
+    if (s == sigma.end()) return;
+    has_sigma = has_sigma && std::isfinite(s->second);
+    inside += std::abs(e) <= 2.0 * s->second;
+    ++n;
+  });
+  return n && has_sigma ? 100.0 * static_cast<double>(inside) / static_cast<double>(n) : NAN;
 }
 
 // Raw gyro integrated from the first sample with a fixed bias.
@@ -164,7 +193,14 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     const auto eq = arg.find('=');
     const std::string label = "headingd " + arg.substr(0, eq);
-    std::printf("  %-40s %6.2f\n", label.c_str(), rmse(truth, read_estimates(arg.substr(eq + 1))));
+    std::map<long long, double> sigmas;
+    const auto estimate = read_estimates(arg.substr(eq + 1), &sigmas);
+    const double honest = within_two_sigma(truth, estimate, sigmas);
+    if (std::isfinite(honest))
+      std::printf("  %-40s %6.2f   (|E| <= 2 sigma on %.1f %% of the moving samples)\n", label.c_str(),
+                  rmse(truth, estimate), honest);
+    else
+      std::printf("  %-40s %6.2f\n", label.c_str(), rmse(truth, estimate));
   }
   return 0;
 }

@@ -63,6 +63,7 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   } else {
     filters_[2].measure_angle(fix_deg, variance_deg2);
   }
+  fixed_angle_variance_deg2_ = std::max(0.0, filters_[2].angle_variance());
   // The segment under way must not take this back if it turns out still, nor may a
   // retraction of the segment before it (its states predate the fix).
   segment_.filters_at_start[2] = filters_[2].state();
@@ -78,6 +79,7 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
 
 void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {
   filters_[2].restore_angle(heading_deg, variance_deg2);  // the variance saved includes the scale's
+  fixed_angle_variance_deg2_ = std::max(0.0, filters_[2].angle_variance());
   replaced_.pending = false;
   turned_from_deg_ = heading_deg;
   segment_.filters_at_start[2] = filters_[2].state();
@@ -287,6 +289,15 @@ Vec3 AutoEstimator::bias_dps() const {
   return {filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps()};
 }
 
+double AutoEstimator::shown_heading_variance_deg2() const {
+  const double angle = std::max(0.0, filters_[2].angle_variance());
+  if (!settings_.calibrate_sigma) return angle + scale_variance_deg2();
+  // A fix's (or a restored state's) own variance is the caller's figure, not the filter's.
+  const double gathered = std::max(0.0, angle - fixed_angle_variance_deg2_);
+  return std::min(angle, fixed_angle_variance_deg2_) + stop_innovations_.variance_scale() * gathered +
+         scale_variance_deg2();
+}
+
 void AutoEstimator::fill_estimate(const Sample& sample) {
   const Vec3 bias = bias_dps();
   estimate_.t_s = sample.t_s;
@@ -303,7 +314,7 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
     estimate_.heading_sigma_deg = 0.0;  // held by assumption: the platform is still
     estimate_.bias_sigma_dps = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   } else {
-    estimate_.heading_sigma_deg = std::sqrt(std::max(0.0, filters_[2].angle_variance()) + scale_variance_deg2());
+    estimate_.heading_sigma_deg = std::sqrt(shown_heading_variance_deg2());
     for (std::size_t axis = 0; axis < 3; ++axis)
       estimate_.bias_sigma_dps[static_cast<Eigen::Index>(axis)] =
           std::sqrt(std::max(0.0, filters_[axis].bias_variance()));

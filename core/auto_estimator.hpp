@@ -28,6 +28,7 @@
 #include "core/segment_judge.hpp"
 #include "core/segment_stats.hpp"
 #include "core/sensor_models.hpp"
+#include "core/stop_innovations.hpp"
 #include "core/temperature_model.hpp"
 #include "core/temperature_reading.hpp"
 
@@ -317,6 +318,11 @@ class AutoEstimator {
   double scale_variance_deg2() const {
     return scale_.heading_variance_deg2(filters_[2].angle_deg() - turned_from_deg_);
   }
+  // The heading variance shown: the filter's, the part since the last fix or restore scaled by
+  // what the stops have shown of it (settings_.calibrate_sigma), and the scale factor's share.
+  double shown_heading_variance_deg2() const;
+  StopInnovations stop_innovations_;
+  double fixed_angle_variance_deg2_ = 0.0;  // the angle's variance just after the last fix or restore
   double rate_for_angle(const Vec3& rate_dps, int axis) const;
   // The z rate the filter integrates: its turn (rate - bias) by the learned scale's gain.
   static double scaled_z(double rate_dps, double bias_dps, double gain) {

@@ -130,6 +130,14 @@ SegmentVerdict AutoEstimator::close_segment() {
   count_verdict(verdict.accepted, mean, previous_.predicted_dps, duration_s);
   previous_accepted_ = verdict.accepted;
   if (verdict.accepted) {
+    // The first accepted segment after anything but an accepted one (motion, a rejection, the
+    // start-up, a restart): how far the bias moved since the filter last measured it, against
+    // its prediction of that move (the heading sigma's calibration, StopInnovations). The
+    // segments going on from the start-up or a restart test the bias those measured and its
+    // variance, the filter's claim too: leaving them out put fewer runs in 85-99.5 % within
+    // 2 sigma on issue 12's random worlds (87 against 92 of seeds 1-200, 74 against 77 of
+    // 201-400, measured with the normalized form StopInnovations describes).
+    if (!after_accepted) stop_innovations_.add(deviation_z, filters_[2].bias_variance(), r.z());
     reinstate_outlier();
     accept_still(mean, r, segment_.start_t_s + duration_s);
     if (hint_ != MotionHint::Stopped) add_verdict_doubt(deviation_z, sd_z, duration_s, true);

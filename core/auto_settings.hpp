@@ -36,6 +36,11 @@ struct AutoSettings {
   // Default 1 %: the L3GD20H datasheet (Table 3) gives +-2 % sensitivity change over
   // -40..+85 C, taken here as 2 sigma; a calibrated sensor may set its own figure.
   double scale_factor_sigma = 0.01;
+  // true: the heading sigma is calibrated by the run's own stops — the part gathered since the
+  // last fix widened by how far the bias moved between measurements against how far the filter
+  // predicted (core/stop_innovations.hpp; never narrowed). The estimates do not depend on it;
+  // false: the filter's own.
+  bool calibrate_sigma = true;
   // What the stillness test cannot tell apart: a segment whose mean is near the threshold may
   // hide a slow turn (if accepted) or be still after all (if rejected). The probability p of
   // the other verdict comes from a two-hypothesis mixture: still (Gaussian around the

@@ -167,6 +167,8 @@ void read_auto(const TableReader& r, core::AutoSettings& a) {
           a.scale_factor_sigma = r.number(node, key, 0.0, 0.5, false);
         else if (name == "retract_before_creep")
           a.retract_before_creep = r.boolean(node, key);
+        else if (name == "calibrate_sigma")
+          a.calibrate_sigma = r.boolean(node, key);
         else if (name == "recover_after_s")
           a.recover_after_s = r.number(node, key, 0.0, 86400.0, false);
         else if (name == "zero_rate_sigma_dps")
@@ -176,7 +178,7 @@ void read_auto(const TableReader& r, core::AutoSettings& a) {
         return true;
       },
       "min_segment_s, k_range, k_mean, k_mean_pooled, arw_dps_rt_hz, bias_walk_dps_rt_s, block_s, "
-      "scale_factor_sigma, retract_before_creep, recover_after_s, zero_rate_sigma_dps");
+      "scale_factor_sigma, calibrate_sigma, retract_before_creep, recover_after_s, zero_rate_sigma_dps");
 }
 
 void read_estimator(const TableReader& r, core::EstimatorSettings& e) {

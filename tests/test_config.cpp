@@ -57,6 +57,7 @@ arw_dps_rt_hz = [0.1, 0.1, 0.011]
 bias_walk_dps_rt_s = 0.0002
 block_s = 0.05
 scale_factor_sigma = 0.003
+calibrate_sigma = false
 retract_before_creep = false
 recover_after_s = 30
 zero_rate_sigma_dps = 20
@@ -80,6 +81,7 @@ unmodelled_dps_per_c = 0.01
   EXPECT_DOUBLE_EQ(a.bias_walk_dps_rt_s, 0.0002);
   EXPECT_DOUBLE_EQ(a.block_s, 0.05);
   EXPECT_DOUBLE_EQ(a.scale_factor_sigma, 0.003);
+  EXPECT_FALSE(a.calibrate_sigma);
   EXPECT_FALSE(a.retract_before_creep);
   EXPECT_DOUBLE_EQ(a.recover_after_s, 30.0);
   EXPECT_DOUBLE_EQ(a.zero_rate_sigma_dps, 20.0);
