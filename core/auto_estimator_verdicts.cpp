@@ -137,7 +137,9 @@ SegmentVerdict AutoEstimator::close_segment() {
     // variance, the filter's claim too: leaving them out put fewer runs in 85-99.5 % within
     // 2 sigma on issue 12's random worlds (87 against 92 of seeds 1-200, 74 against 77 of
     // 201-400, measured with the normalized form StopInnovations describes).
-    if (!after_accepted) stop_innovations_.add(deviation_z, filters_[2].bias_variance(), r.z());
+    // Only where the mean test passed on its own: a segment a "stopped" hint made still may lie
+    // tenths of a dps off (a wrong hint), and one such would widen the sigma for the whole run.
+    if (!after_accepted && mean_ok) stop_innovations_.add(deviation_z, filters_[2].bias_variance(), r.z());
     reinstate_outlier();
     accept_still(mean, r, segment_.start_t_s + duration_s);
     if (hint_ != MotionHint::Stopped) add_verdict_doubt(deviation_z, sd_z, duration_s, true);

@@ -18,7 +18,7 @@
 // form stays near 1 where P is many times too small. On issue 12's random worlds 1-200
 // (bench/sweep.sh, docs/random-worlds.md "2026-12-04 (night)") this form puts 95.5 % of all
 // outputs within 2 sigma and 5 runs below 60 % — a consistent sigma's figures (95.4 %, 5-8) —
-// where the filter's own sigma has 87.2 % and 24, and the normalized form 88-91 % and 18-20.
+// where the filter's own sigma has 87.2 % and 24, and the normalized form 90-91 % and 18-20.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
