@@ -29,6 +29,7 @@ struct SeedResult {
   double true_scale = 0.0, learned = 0.0, learned_sigma = 0.0;
   std::vector<double> before_fix_learning, before_fix_plain;  // |E| just before each fix, deg
   double within_two_sigma = 0.0;
+  std::uint64_t within = 0, outputs = 0;  // the 10 Hz outputs within 2 sigma, of all
 };
 
 // A fix names a direction (the estimator takes its equivalent nearest its own heading), so the
@@ -58,7 +59,8 @@ SeedResult run_seed(std::uint64_t seed, double hours, double fix_every_s) {
   core::Sample sample;
   drivers::TruthPoint truth;
   double last_fix_s = 0.0;
-  std::uint64_t within = 0, outputs = 0;
+  std::uint64_t& within = r.within;
+  std::uint64_t& outputs = r.outputs;
   for (std::uint64_t i = 0; !sim.done(); ++i) {
     sim.step(sample, truth);
     const core::Estimate& a = learning.update(sample);
@@ -98,7 +100,8 @@ int main(int argc, char** argv) {
   std::printf("%5s %8s %8s %7s %5s | %12s %12s | %7s\n", "seed", "scale %", "learned", "sigma", "fixes", "|E| learning",
               "|E| plain", "in 2sig");
   std::vector<double> all_learning, all_plain, scale_errors;
-  int scale_within = 0, honest = 0;
+  int scale_within = 0, honest = 0, below_60 = 0, above_band = 0;
+  std::uint64_t pooled_within = 0, pooled_outputs = 0;
   for (const SeedResult& r : results) {
     std::printf("%5llu %+8.3f %+8.3f %7.3f %5zu | %12.3f %12.3f | %6.1f%%\n", static_cast<unsigned long long>(r.seed),
                 100.0 * r.true_scale, 100.0 * r.learned, 100.0 * r.learned_sigma, r.before_fix_learning.size(),
@@ -113,6 +116,10 @@ int main(int argc, char** argv) {
     scale_errors.push_back(std::abs(r.learned - r.true_scale));
     scale_within += std::abs(r.learned - r.true_scale) <= 2.0 * r.learned_sigma;
     honest += r.within_two_sigma >= 0.85 && r.within_two_sigma <= 0.995;
+    below_60 += r.within_two_sigma < 0.6;
+    above_band += r.within_two_sigma > 0.995;
+    pooled_within += r.within;
+    pooled_outputs += r.outputs;
   }
   std::printf("\n%ld seeds of %.1f h, a fix from the truth at the first stop %.0f s after the last:\n", seeds, hours,
               fix_every_s);
@@ -122,6 +129,10 @@ int main(int argc, char** argv) {
       median(all_learning), median(all_plain), all_learning.size());
   std::printf("learned scale against the world's: median |error| %.3f %%; within 2 sigma on %d of %ld seeds\n",
               100.0 * median(scale_errors), scale_within, seeds);
-  std::printf("sigma honesty with fixes: %d of %ld seeds with 85-99.5 %% of outputs within 2 sigma\n", honest, seeds);
+  std::printf(
+      "sigma honesty with fixes: %d of %ld seeds with 85-99.5 %% of outputs within 2 sigma (%d below 60 %%, %d above "
+      "99.5 %%), %.1f %% of all outputs\n",
+      honest, seeds, below_60, above_band,
+      100.0 * static_cast<double>(pooled_within) / static_cast<double>(std::max<std::uint64_t>(1, pooled_outputs)));
   return 0;
 }
