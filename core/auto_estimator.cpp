@@ -53,6 +53,7 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   // A fix names a direction; the turns counted so far are ours: the equivalent nearest to the
   // heading now (a fix of 90 at an unwrapped 449 is 450, not a jump of 359 degrees).
   const double fix_deg = before_deg + std::remainder(heading_deg - before_deg, 360.0);
+  note_fix_innovation(std::remainder(heading_deg - shown_before_deg, 360.0), variance_deg2);
   // The scale factor's share (as it was before this fix) enters the fix's weighting; after it,
   // turning counts from here.
   const double scale_share_deg2 = scale_variance_deg2();
@@ -75,6 +76,21 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   turned_from_deg_ = filters_[2].angle_deg();
   shown_undecided_deg_ = 0.0;
   return filters_[2].angle_deg() - shown_before_deg;
+}
+
+void AutoEstimator::note_fix_innovation(double innovation_deg, double fix_variance_deg2) {
+  // Only a fix that states its uncertainty is a measurement: an "exact" one (variance 0) is as
+  // often a frame being set (the dock is 0) as a heading measured, and one many sigma away
+  // is a wrong fix or such a frame, not news of the sigma's size (ScaleFactor gates alike).
+  if (!(fix_variance_deg2 > 0.0)) return;
+  const double predicted = shown_heading_variance_deg2() + fix_variance_deg2;
+  if (!(innovation_deg * innovation_deg <= kFixGateSigmas * kFixGateSigmas * predicted)) return;
+  // What the heading shown was off by, against what the sigma shown claimed: the share the
+  // stops' factor scales (gathered since the last fix) and what it does not.
+  const double angle = std::max(0.0, filters_[2].angle_variance());
+  const double unscaled =
+      std::min(angle, fixed_angle_variance_deg2_) + scale_variance_deg2() + std::max(0.0, fix_variance_deg2);
+  fix_innovations_.add(innovation_deg * innovation_deg - unscaled, angle - fixed_angle_variance_deg2_);
 }
 
 void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {
@@ -294,8 +310,8 @@ double AutoEstimator::shown_heading_variance_deg2() const {
   if (!settings_.calibrate_sigma) return angle + scale_variance_deg2();
   // A fix's (or a restored state's) own variance is the caller's figure, not the filter's.
   const double gathered = std::max(0.0, angle - fixed_angle_variance_deg2_);
-  return std::min(angle, fixed_angle_variance_deg2_) + stop_innovations_.variance_scale() * gathered +
-         scale_variance_deg2();
+  const double factor = fix_innovations_.variance_scale(stop_innovations_.variance_scale(), kFixScaleFloor);
+  return std::min(angle, fixed_angle_variance_deg2_) + factor * gathered + scale_variance_deg2();
 }
 
 void AutoEstimator::fill_estimate(const Sample& sample) {

@@ -53,6 +53,7 @@ class AutoEstimator {
   std::uint64_t hint_conflicts() const { return hint_conflicts_; }
   // The z scale factor, learned from heading fixes (measured = true * (1 + s)).
   const ScaleFactor& scale() const { return scale_; }
+  const FixInnovations& fix_innovations() const { return fix_innovations_; }
   // Restores a learned scale factor (after a restart); its sigma no wider than configured.
   void restore_scale(double estimate, double sigma) { scale_.restore(estimate, sigma); }
   // Restores a bias (after a restart) with its sigma; ends the start-up phase.
@@ -319,9 +320,13 @@ class AutoEstimator {
     return scale_.heading_variance_deg2(filters_[2].angle_deg() - turned_from_deg_);
   }
   // The heading variance shown: the filter's, the part since the last fix or restore scaled by
-  // what the stops have shown of it (settings_.calibrate_sigma), and the scale factor's share.
+  // what the stops and the fixes have shown of it (settings_.calibrate_sigma), and the scale
+  // factor's share.
   double shown_heading_variance_deg2() const;
+  // A heading fix's innovation against the sigma shown, before the fix is applied.
+  void note_fix_innovation(double innovation_deg, double fix_variance_deg2);
   StopInnovations stop_innovations_;
+  FixInnovations fix_innovations_;
   double fixed_angle_variance_deg2_ = 0.0;  // the angle's variance just after the last fix or restore
   double rate_for_angle(const Vec3& rate_dps, int axis) const;
   // The z rate the filter integrates: its turn (rate - bias) by the learned scale's gain.

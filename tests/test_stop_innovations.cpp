@@ -97,6 +97,7 @@ struct TwinRun {
   std::normal_distribution<double> noise{0.0, 1.0};
   long index = 0;
   double bias_shift_dps = 0.0;
+  double truth_deg = 0.0;  // the heading turned, integrated as the estimators do (from the 2nd sample)
 
   TwinRun(const EstimatorSettings& settings, unsigned seed)
       : calibrated(settings), plain(without_calibration(settings)), rng(seed) {}
@@ -107,6 +108,7 @@ struct TwinRun {
   void run(double seconds, double rate_dps, double shake_dps) {
     for (long i = 0; i < std::lround(seconds * kHz); ++i) {
       Sample s;
+      if (index > 0) truth_deg += rate_dps / kHz;
       s.t_s = static_cast<double>(index++) / kHz;
       const double shake = shake_dps * noise(rng);
       s.rate_dps = Vec3(0.3 + 0.05 * noise(rng) + shake, -0.2 + 0.05 * noise(rng) + shake,
@@ -114,6 +116,11 @@ struct TwinRun {
       calibrated.update(s);
       plain.update(s);
     }
+  }
+  // A fix from the truth with its variance, to both.
+  void fix(double variance_deg2) {
+    calibrated.set_heading(truth_deg, variance_deg2);
+    plain.set_heading(truth_deg, variance_deg2);
   }
   void hint(MotionHint h) {
     calibrated.set_motion_hint(h);
@@ -170,9 +177,8 @@ TEST(StopInnovations, AHeadingFixsOwnVarianceIsNotScaled) {
   // A fix of 1 deg sigma: right after it the sigma shown is the filter's (the fix weighed
   // against the filter's own variance), not that times the stops' factor; what gathers after
   // it is scaled again.
-  calibrated.set_heading(0.0, 1.0);
-  plain.set_heading(0.0, 1.0);
-  twin.run(0.1, 0.0, 0.0);
+  twin.fix(1.0);
+  twin.run(1.0 / kHz, 0.0, 0.0);
   EXPECT_NEAR(calibrated.last().heading_sigma_deg, plain.last().heading_sigma_deg, 0.01);
   twin.run(60.0, 10.0, 0.5);
   EXPECT_GT(calibrated.last().heading_sigma_deg, plain.last().heading_sigma_deg + 0.01);
@@ -201,4 +207,69 @@ TEST(StopInnovations, ASegmentOnlyAStoppedHintMadeStillDoesNotCount) {
   SCOPED_TRACE(std::to_string(calibrated.last().heading_sigma_deg) + " / " +
                std::to_string(plain.last().heading_sigma_deg));
   EXPECT_LE(calibrated.last().heading_sigma_deg, 1.05 * plain.last().heading_sigma_deg);
+}
+
+TEST(FixInnovations, ScalesTheGatheredVarianceByWhatTheFixesFoundWithTheStopsFactorAsThePrior) {
+  FixInnovations f;
+  EXPECT_DOUBLE_EQ(f.variance_scale(3.0, kFixScaleFloor), 3.0);  // no fix: the stops' factor
+  // A fix 2 deg off where 1 deg^2 was gathered and 0.5 is not scaled: (4 - 0.5) / 1 = 3.5;
+  // half-way with the prior of 1.5 weighed as one fix: (3.5 + 1.5) / 2.
+  f.add(4.0 - 0.5, 1.0);
+  EXPECT_NEAR(f.variance_scale(1.5, kFixScaleFloor), 2.5, 1e-12);
+  // Fixes that land on the heading: narrowed, but never below the floor.
+  for (int i = 0; i < 50; ++i) f.add(-0.5, 1.0);
+  EXPECT_DOUBLE_EQ(f.variance_scale(1.5, kFixScaleFloor), kFixScaleFloor);
+  f.add(std::nan(""), 1.0);
+  f.add(1.0, 0.0);  // nothing gathered since the last fix: nothing to scale
+  EXPECT_EQ(f.fixes(), 51u);
+}
+
+TEST(StopInnovations, FixesThatFindTheHeadingCloserThanTheSigmaSaidNarrowIt) {
+  // The filter was told a bias walk 100 times the default's: its sigma grows over a drive many
+  // times faster than the heading error does. The stops cannot narrow it (they see only the
+  // bias); fixes from the truth at each drive's end see the heading well inside it and do.
+  EstimatorSettings settings;
+  settings.automatic.scale_factor_sigma = 0.0;
+  settings.automatic.bias_walk_dps_rt_s = 1e-2;
+  TwinRun twin(settings, 5);
+  twin.run(30.0, 0.0, 0.0);
+  int within = 0;
+  double first_ratio = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    twin.run(60.0, 10.0, 0.5);
+    const double error = std::abs(std::remainder(twin.truth_deg - twin.calibrated.last().heading_deg, 360.0));
+    within += error <= 2.0 * twin.calibrated.last().heading_sigma_deg;
+    const double ratio = twin.calibrated.last().heading_sigma_deg / twin.plain.last().heading_sigma_deg;
+    if (c == 0) first_ratio = ratio;
+    SCOPED_TRACE("drive " + std::to_string(c) + ": error " + std::to_string(error) + ", sigma shown " +
+                 std::to_string(twin.calibrated.last().heading_sigma_deg) + ", filter's own " +
+                 std::to_string(twin.plain.last().heading_sigma_deg));
+    if (c == 7) {
+      EXPECT_LT(ratio, 0.7);
+    }
+    twin.fix(0.01);
+    twin.run(30.0, 0.0, 0.0);
+  }
+  EXPECT_NEAR(first_ratio, 1.0, 0.05) << "before any fix, the filter's own (the stops do not narrow)";
+  EXPECT_EQ(within, 8);
+}
+
+TEST(StopInnovations, AnExactFixOrOneFarOffIsNotCounted) {
+  // An "exact" fix (variance 0) may set a frame (the dock is 0), and one far outside the sigma is
+  // a wrong fix: neither says anything of the sigma's size. A fix near the heading, with its
+  // variance, is counted.
+  EstimatorSettings settings;
+  settings.automatic.scale_factor_sigma = 0.0;
+  TwinRun twin(settings, 9);
+  const auto counted = [&] { return twin.calibrated.automatic()->fix_innovations().fixes(); };
+  twin.run(30.0, 0.0, 0.0);
+  twin.run(60.0, 10.0, 0.5);
+  twin.calibrated.set_heading(0.0, 0.0);
+  EXPECT_EQ(counted(), 0u);
+  twin.run(60.0, 10.0, 0.5);
+  twin.calibrated.set_heading(twin.calibrated.last().heading_deg + 90.0, 0.01);
+  EXPECT_EQ(counted(), 0u);
+  twin.run(60.0, 10.0, 0.5);
+  twin.calibrated.set_heading(twin.calibrated.last().heading_deg + 0.2, 0.01);  // a fix within its sigma
+  EXPECT_EQ(counted(), 1u);
 }
