@@ -53,7 +53,9 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   // A fix names a direction; the turns counted so far are ours: the equivalent nearest to the
   // heading now (a fix of 90 at an unwrapped 449 is 450, not a jump of 359 degrees).
   const double fix_deg = before_deg + std::remainder(heading_deg - before_deg, 360.0);
-  note_fix_innovation(std::remainder(heading_deg - shown_before_deg, 360.0), variance_deg2);
+  const double innovation_deg = std::remainder(heading_deg - shown_before_deg, 360.0);
+  const bool within_gate = fix_within_gate(innovation_deg, variance_deg2);
+  if (within_gate) note_fix_innovation(innovation_deg, variance_deg2);
   // The scale factor's share (as it was before this fix) enters the fix's weighting; after it,
   // turning counts from here.
   const double scale_share_deg2 = scale_variance_deg2();
@@ -61,6 +63,13 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   filters_[2].widen_angle(scale_share_deg2);
   if (variance_deg2 <= 0.0) {
     filters_[2].fix_angle(fix_deg);
+  } else if (!within_gate) {
+    // Far outside the sigma: a frame being set (the vehicle's first absolute heading, known to a
+    // few degrees, against our 0 +- 0.01 at start-up) or a wrong fix. Weighed as a measurement it
+    // would barely move the heading and would push its whole innovation into the bias through
+    // their correlation (0.5 rad at 1e-7 rad^2 left a still gyro turning 0.3 deg/s). Taken as the
+    // new reference instead: the heading and its variance are the fix's, the bias is untouched.
+    filters_[2].restore_angle(fix_deg, variance_deg2);
   } else {
     filters_[2].measure_angle(fix_deg, variance_deg2);
   }
@@ -78,13 +87,16 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   return filters_[2].angle_deg() - shown_before_deg;
 }
 
-void AutoEstimator::note_fix_innovation(double innovation_deg, double fix_variance_deg2) {
+bool AutoEstimator::fix_within_gate(double innovation_deg, double fix_variance_deg2) const {
   // Only a fix that states its uncertainty is a measurement: an "exact" one (variance 0) is as
   // often a frame being set (the dock is 0) as a heading measured, and one many sigma away
-  // is a wrong fix or such a frame, not news of the sigma's size (ScaleFactor gates alike).
-  if (!(fix_variance_deg2 > 0.0)) return;
+  // is a wrong fix or such a frame, not news of the heading (ScaleFactor gates alike).
+  if (!(fix_variance_deg2 > 0.0)) return false;
   const double predicted = shown_heading_variance_deg2() + fix_variance_deg2;
-  if (!(innovation_deg * innovation_deg <= kFixGateSigmas * kFixGateSigmas * predicted)) return;
+  return innovation_deg * innovation_deg <= kFixGateSigmas * kFixGateSigmas * predicted;
+}
+
+void AutoEstimator::note_fix_innovation(double innovation_deg, double fix_variance_deg2) {
   // What the heading shown was off by, against what the sigma shown claimed: the share the
   // stops' factor scales (gathered since the last fix) and what it does not.
   const double angle = std::max(0.0, filters_[2].angle_variance());
@@ -305,13 +317,17 @@ Vec3 AutoEstimator::bias_dps() const {
   return {filters_[0].bias_dps(), filters_[1].bias_dps(), filters_[2].bias_dps()};
 }
 
+double AutoEstimator::heading_variance_scale() const {
+  if (!settings_.calibrate_sigma) return 1.0;
+  return fix_innovations_.variance_scale(stop_innovations_.variance_scale(), kFixScaleFloor);
+}
+
 double AutoEstimator::shown_heading_variance_deg2() const {
   const double angle = std::max(0.0, filters_[2].angle_variance());
   if (!settings_.calibrate_sigma) return angle + scale_variance_deg2();
   // A fix's (or a restored state's) own variance is the caller's figure, not the filter's.
   const double gathered = std::max(0.0, angle - fixed_angle_variance_deg2_);
-  const double factor = fix_innovations_.variance_scale(stop_innovations_.variance_scale(), kFixScaleFloor);
-  return std::min(angle, fixed_angle_variance_deg2_) + factor * gathered + scale_variance_deg2();
+  return std::min(angle, fixed_angle_variance_deg2_) + heading_variance_scale() * gathered + scale_variance_deg2();
 }
 
 void AutoEstimator::fill_estimate(const Sample& sample) {

@@ -54,6 +54,10 @@ class AutoEstimator {
   // The z scale factor, learned from heading fixes (measured = true * (1 + s)).
   const ScaleFactor& scale() const { return scale_; }
   const FixInnovations& fix_innovations() const { return fix_innovations_; }
+  // What the variance the filter gathered since the last fix is multiplied by in the sigma
+  // shown (1 when calibrate_sigma is off), and how many stops and fixes it rests on.
+  double heading_variance_scale() const;
+  std::uint64_t stops_weighed() const { return stop_innovations_.stops(); }
   // Restores a learned scale factor (after a restart); its sigma no wider than configured.
   void restore_scale(double estimate, double sigma) { scale_.restore(estimate, sigma); }
   // Restores a bias (after a restart) with its sigma; ends the start-up phase.
@@ -323,6 +327,8 @@ class AutoEstimator {
   // what the stops and the fixes have shown of it (settings_.calibrate_sigma), and the scale
   // factor's share.
   double shown_heading_variance_deg2() const;
+  // A fix with a variance, within kFixGateSigmas of the heading shown: a measurement of it.
+  bool fix_within_gate(double innovation_deg, double fix_variance_deg2) const;
   // A heading fix's innovation against the sigma shown, before the fix is applied.
   void note_fix_innovation(double innovation_deg, double fix_variance_deg2);
   StopInnovations stop_innovations_;

@@ -53,6 +53,11 @@ struct Diagnostics {
   // NaN sigma: none learned.
   double scale_z = 0.0;
   double scale_z_sigma = std::numeric_limits<double>::quiet_NaN();
+  // auto: the factor on the heading variance the filter gathered since the last fix (the
+  // sigma's calibration by the run's stops and fixes; 1 when off), and what it rests on.
+  double heading_variance_scale = 1.0;
+  std::uint64_t sigma_stops_weighed = 0;
+  std::uint64_t sigma_fixes_weighed = 0;
 };
 
 // What survives a restart (the state file): the bias and what was learned about the sensor.

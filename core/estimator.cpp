@@ -178,6 +178,9 @@ Diagnostics Estimator::diagnostics() const {
     d.last_still_t_s = a->last_still_t_s();
     d.motion_hint = a->motion_hint();
     d.hint_conflicts = a->hint_conflicts();
+    d.heading_variance_scale = a->heading_variance_scale();
+    d.sigma_stops_weighed = a->stops_weighed();
+    d.sigma_fixes_weighed = a->fix_innovations().fixes();
     for (int axis = 0; axis < 3; ++axis) {
       const TemperatureModel& model = a->temperature_model(axis);
       d.temperature[static_cast<std::size_t>(axis)] = {model.ready(), model.slope_dps_per_c(25.0),

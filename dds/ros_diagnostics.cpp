@@ -132,6 +132,11 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
                   {"motion_messages_refused", std::to_string(inbound.motion_refused)},
                   {"commands_accepted", std::to_string(inbound.commands_accepted)},
                   {"commands_rejected", std::to_string(inbound.commands_rejected)}};
+  if (has_sigma) {
+    entry.values.emplace_back("heading_variance_scale", number(d.heading_variance_scale));
+    entry.values.emplace_back("sigma_stops_weighed", std::to_string(d.sigma_stops_weighed));
+    entry.values.emplace_back("sigma_fixes_weighed", std::to_string(d.sigma_fixes_weighed));
+  }
   // Learned from heading fixes only: absent until a fix after a turn has told it.
   if (!std::isnan(d.scale_z_sigma)) {
     entry.values.emplace_back("scale_z", number(d.scale_z));

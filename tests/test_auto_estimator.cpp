@@ -222,6 +222,28 @@ TEST(AutoEstimator, HeadingFixIsApplied) {
   EXPECT_NEAR(rig.estimator().last().heading_deg, 90.0, 0.05);
 }
 
+TEST(AutoEstimator, AFixFarOutsideTheSigmaSetsTheHeadingAndLeavesTheBias) {
+  // The vehicle's first absolute heading, known to 2 degrees, against our 0 +- a few hundredths:
+  // weighed as a measurement it barely moved the heading (0.01 % of the way) and pushed the rest
+  // into the bias through their correlation. It is the new reference.
+  Rig rig;
+  rig.run(10.0, 0.0);
+  const double bias_before = rig.estimator().last().bias_dps.z();
+  rig.estimator().set_heading(90.0, 4.0);
+  rig.run(0.1, 0.0);
+  EXPECT_NEAR(rig.estimator().last().heading_deg, 90.0, 0.01);
+  EXPECT_NEAR(rig.estimator().last().heading_sigma_deg, 2.0, 0.01) << "the fix's own sigma";
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), bias_before, 1e-6) << "a new frame says nothing of the bias";
+  // A later fix within the sigma is a measurement again: half way for equal variances.
+  rig.estimator().set_heading(91.0,
+                              rig.estimator().last().heading_sigma_deg * rig.estimator().last().heading_sigma_deg);
+  rig.run(0.1, 0.0);
+  EXPECT_NEAR(rig.estimator().last().heading_deg, 90.5, 0.02);
+  EXPECT_NEAR(rig.estimator().last().heading_sigma_deg, 2.0 / std::sqrt(2.0), 0.02);
+  rig.run(9.0, 0.0);
+  EXPECT_NEAR(rig.estimator().last().heading_deg, 90.5, 0.05) << "still is still after both";
+}
+
 TEST(AutoEstimator, CreepStartingInsideASegmentIsTakenBack) {
   // A creep that starts half-way through a segment leans that segment by only half its rate,
   // which the mean test lets pass; the next segment shows it whole. Taking the first

@@ -8,10 +8,11 @@
  *     headingd/orientation, and one line per endpoint discovered (DCPSPublication and
  *     DCPSSubscription: topic, type, reliability, durability).
  *   ros_peer odom|twist DOMAIN TOPIC MODE SECONDS
- *     Publishes nav_msgs/Odometry (or geometry_msgs/Twist) at 20 Hz. MODE: stopped (zero twist), moving (1 m/s, 0.2 rad/s),
- *     nan (NaN twist), stale (stamped 60 s ago), future (stamped 60 s ahead).
- *   ros_peer bad-commands DOMAIN N RATE
+ *     Publishes nav_msgs/Odometry (or geometry_msgs/Twist) at 20 Hz. MODE: stopped (zero twist), moving (1 m/s, 0.2
+ * rad/s), nan (NaN twist), stale (stamped 60 s ago), future (stamped 60 s ahead). ros_peer bad-commands DOMAIN N RATE
  *     Sends N HeadingCommands with a NaN heading at RATE per second (reliable, keep all).
+ *   ros_peer set-heading DOMAIN HEADING_RAD VARIANCE_RAD2
+ *     Sends one set-heading fix with its variance (0 = exact).
  */
 #include <math.h>
 #include <stdio.h>
@@ -35,7 +36,9 @@ static double wall_s(void) {
   return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-static double stamp_of(const builtin_interfaces_msg_dds__Time_* t) { return (double)t->sec + (double)t->nanosec * 1e-9; }
+static double stamp_of(const builtin_interfaces_msg_dds__Time_* t) {
+  return (double)t->sec + (double)t->nanosec * 1e-9;
+}
 
 static void print_array(const char* name, const double* v, int n) {
   printf(" %s=", name);
@@ -89,9 +92,12 @@ static const char* durability_name(const dds_qos_t* qos) {
   dds_durability_kind_t kind;
   if (!dds_qget_durability(qos, &kind)) return "?";
   switch (kind) {
-    case DDS_DURABILITY_VOLATILE: return "volatile";
-    case DDS_DURABILITY_TRANSIENT_LOCAL: return "transient_local";
-    default: return "other";
+    case DDS_DURABILITY_VOLATILE:
+      return "volatile";
+    case DDS_DURABILITY_TRANSIENT_LOCAL:
+      return "transient_local";
+    default:
+      return "other";
   }
 }
 
@@ -202,8 +208,9 @@ static int listen(dds_domainid_t domain, double seconds, const char* ns) {
     n = dds_take(orientation, samples, info, 1, 1);
     if (n > 0 && info[0].valid_data) {
       const headingd_msg_Orientation* o = samples[0];
-      printf("orientation stamp=%.9f seq=%llu heading=%.17g fixes=%llu yaw_offset=%.17g\n", stamp_of((const void*)&o->stamp),
-             (unsigned long long)o->seq, o->heading_rad, (unsigned long long)o->heading_fixes, o->yaw_offset_rad);
+      printf("orientation stamp=%.9f seq=%llu heading=%.17g variance=%.17g fixes=%llu yaw_offset=%.17g\n",
+             stamp_of((const void*)&o->stamp), (unsigned long long)o->seq, o->heading_rad, o->heading_variance_rad2,
+             (unsigned long long)o->heading_fixes, o->yaw_offset_rad);
     }
     if (n > 0) dds_return_loan(orientation, samples, n);
     got += n > 0;
@@ -223,9 +230,9 @@ static int listen(dds_domainid_t domain, double seconds, const char* ns) {
 static int odom(dds_domainid_t domain, const char* topic_name, const char* mode, double seconds, int twist_only) {
   const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
   if (participant < 0) return 1;
-  const dds_entity_t topic =
-      dds_create_topic(participant, twist_only ? &geometry_msgs_msg_dds__Twist__desc : &nav_msgs_msg_dds__Odometry__desc,
-                       topic_name, NULL, NULL);
+  const dds_entity_t topic = dds_create_topic(
+      participant, twist_only ? &geometry_msgs_msg_dds__Twist__desc : &nav_msgs_msg_dds__Odometry__desc, topic_name,
+      NULL, NULL);
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 10);
@@ -267,11 +274,8 @@ static int odom(dds_domainid_t domain, const char* topic_name, const char* mode,
   return 0;
 }
 
-/* N HeadingCommands with a NaN heading, at RATE per second, reliable and kept: every one reaches
- * headingd and every one must be refused. */
-static int bad_commands(dds_domainid_t domain, long n, double rate) {
-  const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
-  if (participant < 0) return 1;
+/* A reliable, keep-all HeadingCommand writer, once headingd's command reader has matched it. */
+static dds_entity_t command_writer(dds_entity_t participant) {
   const dds_entity_t topic =
       dds_create_topic(participant, &headingd_msg_HeadingCommand_desc, "headingd/command", NULL, NULL);
   dds_qos_t* qos = dds_create_qos();
@@ -279,7 +283,7 @@ static int bad_commands(dds_domainid_t domain, long n, double rate) {
   dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
   const dds_entity_t writer = dds_create_writer(participant, topic, qos, NULL);
   dds_delete_qos(qos);
-  if (topic < 0 || writer < 0) return 1;
+  if (topic < 0 || writer < 0) return -1;
   dds_publication_matched_status_t matched = {0};
   const double wait_until = mono_s() + 15.0;
   while (matched.current_count == 0 && mono_s() < wait_until) {
@@ -288,24 +292,51 @@ static int bad_commands(dds_domainid_t domain, long n, double rate) {
   }
   if (matched.current_count == 0) {
     fprintf(stderr, "ros_peer: no headingd/command reader\n");
-    return 1;
+    return -1;
   }
   dds_sleepfor(DDS_MSECS(300));
+  return writer;
+}
+
+static int write_set_heading(dds_entity_t writer, double heading_rad, double variance_rad2) {
+  headingd_msg_HeadingCommand c;
+  memset(&c, 0, sizeof c);
+  const double now = wall_s();
+  c.stamp.sec = (int32_t)floor(now);
+  c.stamp.nanosec = (uint32_t)((now - floor(now)) * 1e9);
+  c.kind = headingd_msg_COMMAND_SET_HEADING;
+  c.heading_rad = heading_rad;
+  c.heading_variance_rad2 = variance_rad2;
+  return dds_write(writer, &c) < 0 ? 1 : 0;
+}
+
+/* N HeadingCommands with a NaN heading, at RATE per second, reliable and kept: every one reaches
+ * headingd and every one must be refused. */
+static int bad_commands(dds_domainid_t domain, long n, double rate) {
+  const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
+  if (participant < 0) return 1;
+  const dds_entity_t writer = command_writer(participant);
+  if (writer < 0) return 1;
   const double start = mono_s();
   for (long i = 0; i < n; ++i) {
-    headingd_msg_HeadingCommand c;
-    memset(&c, 0, sizeof c);
-    const double now = wall_s();
-    c.stamp.sec = (int32_t)floor(now);
-    c.stamp.nanosec = (uint32_t)((now - floor(now)) * 1e9);
-    c.kind = headingd_msg_COMMAND_SET_HEADING;
-    c.heading_rad = NAN;
-    if (dds_write(writer, &c) < 0) return 1;
+    if (write_set_heading(writer, NAN, 0.0)) return 1;
     const double due = start + (double)(i + 1) / rate;
     while (mono_s() < due) dds_sleepfor(DDS_USECS(200));
   }
-  dds_sleepfor(DDS_SECS(1));  /* let reliable delivery finish */
+  dds_sleepfor(DDS_SECS(1)); /* let reliable delivery finish */
   printf("commands: sent %ld with a NaN heading\n", n);
+  dds_delete(participant);
+  return 0;
+}
+
+/* One set-heading fix with its variance (rad^2; 0 = exact), as a vehicle's localisation sends it. */
+static int set_heading(dds_domainid_t domain, double heading_rad, double variance_rad2) {
+  const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
+  if (participant < 0) return 1;
+  const dds_entity_t writer = command_writer(participant);
+  if (writer < 0 || write_set_heading(writer, heading_rad, variance_rad2)) return 1;
+  dds_sleepfor(DDS_MSECS(500)); /* let reliable delivery finish */
+  printf("commands: set-heading %.17g rad, variance %.17g rad^2\n", heading_rad, variance_rad2);
   dds_delete(participant);
   return 0;
 }
@@ -313,10 +344,14 @@ static int bad_commands(dds_domainid_t domain, long n, double rate) {
 int main(int argc, char** argv) {
   if (argc == 5 && strcmp(argv[1], "bad-commands") == 0)
     return bad_commands((dds_domainid_t)atoi(argv[2]), atol(argv[3]), atof(argv[4]));
+  if (argc == 5 && strcmp(argv[1], "set-heading") == 0)
+    return set_heading((dds_domainid_t)atoi(argv[2]), atof(argv[3]), atof(argv[4]));
   if (argc >= 4 && strcmp(argv[1], "listen") == 0)
     return listen((dds_domainid_t)atoi(argv[2]), atof(argv[3]), argc > 4 ? argv[4] : "");
   if (argc == 6 && (strcmp(argv[1], "odom") == 0 || strcmp(argv[1], "twist") == 0))
     return odom((dds_domainid_t)atoi(argv[2]), argv[3], argv[4], atof(argv[5]), strcmp(argv[1], "twist") == 0);
-  fprintf(stderr, "usage: ros_peer listen DOMAIN SECONDS [NAMESPACE] | ros_peer odom|twist DOMAIN TOPIC MODE SECONDS\n");
+  fprintf(stderr,
+          "usage: ros_peer listen DOMAIN SECONDS [NAMESPACE] | ros_peer odom|twist DOMAIN TOPIC MODE SECONDS | "
+          "ros_peer bad-commands DOMAIN N RATE | ros_peer set-heading DOMAIN HEADING_RAD VARIANCE_RAD2\n");
   return 64;
 }
