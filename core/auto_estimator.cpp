@@ -102,7 +102,7 @@ void AutoEstimator::note_fix_innovation(double innovation_deg, double fix_varian
   const double angle = std::max(0.0, filters_[2].angle_variance());
   const double unscaled =
       std::min(angle, fixed_angle_variance_deg2_) + scale_variance_deg2() + std::max(0.0, fix_variance_deg2);
-  fix_innovations_.add(innovation_deg * innovation_deg - unscaled, angle - fixed_angle_variance_deg2_);
+  fix_innovations_.add(innovation_deg * innovation_deg - unscaled, angle - fixed_angle_variance_deg2_, unscaled);
 }
 
 void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {

@@ -58,6 +58,7 @@ class AutoEstimator {
   // shown (1 when calibrate_sigma is off), and how many stops and fixes it rests on.
   double heading_variance_scale() const;
   std::uint64_t stops_weighed() const { return stop_innovations_.stops(); }
+  double stop_variance_scale() const { return stop_innovations_.variance_scale(); }
   // Restores a learned scale factor (after a restart); its sigma no wider than configured.
   void restore_scale(double estimate, double sigma) { scale_.restore(estimate, sigma); }
   // Restores a bias (after a restart) with its sigma; ends the start-up phase.

@@ -59,33 +59,49 @@ class StopInnovations {
 // Unlike the stops, the fixes may narrow the sigma: they see every share of it. With a fix every
 // 10 minutes on issue 12's random worlds the filter's own sigma is already consistent (94.6 % of
 // outputs within 2 sigma) and the stops' factor alone widened it (97.3 %); with the fixes' ratio,
-// 95.8 % (bench/scale_fixes, docs/random-worlds.md "2026-12-04 (late)").
+// 95.8 % (bench/scale_fixes, docs/random-worlds.md "2026-12-04 (late)"); weighed by what each fix
+// can tell (below), 96.0 % and 151 runs in 85-99.5 % (2026-12-05).
 // The fixes' ratio may narrow the gathered variance to this share and no further (0.1 and 0.25 gave
 // the same figures on the worlds above: 149 and 148 runs in 85-99.5 %).
 inline constexpr double kFixScaleFloor = 0.25;
 // A fix further than this many sigma (shown, with the fix's own) from the heading teaches nothing.
 inline constexpr double kFixGateSigmas = 10.0;
 
+// How many fully informative fixes the stops' factor weighs as, beside the fixes' own (bench/
+// scale_fixes 1-200: 0.25: 151 runs in 85-99.5 %, 0.5: 140, 1: 126; held out 201-400 at 0.25: 139,
+// against 141 before the weighting).
+inline constexpr double kFixPriorWeight = 0.25;
+
 class FixInnovations {
  public:
-  void add(double excess_deg2, double gathered_deg2) {
-    if (!std::isfinite(excess_deg2) || !std::isfinite(gathered_deg2) || !(gathered_deg2 > 0.0)) return;
-    excess_ += excess_deg2;
-    gathered_ += gathered_deg2;
+  // One fix: its squared innovation less the unscaled variance (`excess`), the variance gathered
+  // since the previous fix, and the unscaled variance itself. The excess estimates factor *
+  // gathered with a spread of about sqrt(2) (unscaled + gathered): a fix soon after another (a
+  // localisation system at 1 Hz: 0.01 deg^2 left by the last fix, 1e-4 gathered) says almost
+  // nothing of the factor, one after a long drive says much. Weighted least squares, weight
+  // gathered / (unscaled + gathered)^2: a fix with nothing unscaled counts as one; summed as
+  // plain ratios, honest 1 Hz fixes had put the factor at 15.
+  void add(double excess_deg2, double gathered_deg2, double unscaled_deg2) {
+    if (!std::isfinite(excess_deg2) || !std::isfinite(gathered_deg2) || !std::isfinite(unscaled_deg2) ||
+        !(gathered_deg2 > 0.0) || unscaled_deg2 < 0.0)
+      return;
+    const double spread = unscaled_deg2 + gathered_deg2;
+    const double weight = gathered_deg2 / (spread * spread);
+    excess_ += weight * excess_deg2;
+    gathered_ += weight * gathered_deg2;
     ++count_;
   }
-  // `prior_scale` (the stops' factor) weighed as one average fix; never below `floor` (a few
-  // fixes that happen to land near the heading say little of the variance's size).
+  // `prior_scale` (the stops' factor) weighed as one fully informative fix; never below `floor`
+  // (a few fixes that happen to land near the heading say little of the variance's size).
   double variance_scale(double prior_scale, double floor) const {
     if (count_ == 0) return prior_scale;
-    const double prior = gathered_ / static_cast<double>(count_);
-    return std::max(floor, (excess_ + prior_scale * prior) / (gathered_ + prior));
+    return std::max(floor, (excess_ + kFixPriorWeight * prior_scale) / (gathered_ + kFixPriorWeight));
   }
   std::uint64_t fixes() const { return count_; }
 
  private:
-  double excess_ = 0.0;
-  double gathered_ = 0.0;
+  double excess_ = 0.0;    // weighted sum of the excesses
+  double gathered_ = 0.0;  // weighted sum of the variances gathered
   std::uint64_t count_ = 0;
 };
 

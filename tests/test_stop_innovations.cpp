@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/estimator.hpp"
@@ -212,16 +214,29 @@ TEST(StopInnovations, ASegmentOnlyAStoppedHintMadeStillDoesNotCount) {
 TEST(FixInnovations, ScalesTheGatheredVarianceByWhatTheFixesFoundWithTheStopsFactorAsThePrior) {
   FixInnovations f;
   EXPECT_DOUBLE_EQ(f.variance_scale(3.0, kFixScaleFloor), 3.0);  // no fix: the stops' factor
-  // A fix 2 deg off where 1 deg^2 was gathered and 0.5 is not scaled: (4 - 0.5) / 1 = 3.5;
-  // half-way with the prior of 1.5 weighed as one fix: (3.5 + 1.5) / 2.
-  f.add(4.0 - 0.5, 1.0);
-  EXPECT_NEAR(f.variance_scale(1.5, kFixScaleFloor), 2.5, 1e-12);
+  // A fix 2 deg off where 1 deg^2 was gathered and nothing is unscaled: 4 / 1 = 4, weight 1;
+  // with the prior of 1.5 weighed as kFixPriorWeight fixes.
+  const double k = kFixPriorWeight;
+  f.add(4.0, 1.0, 0.0);
+  EXPECT_NEAR(f.variance_scale(1.5, kFixScaleFloor), (4.0 + k * 1.5) / (1.0 + k), 1e-12);
+  // One where as much again was left unscaled weighs a quarter: its 8 of excess on 1 gathered.
+  f.add(8.0, 1.0, 1.0);
+  EXPECT_NEAR(f.variance_scale(1.5, kFixScaleFloor), (4.0 + 2.0 + k * 1.5) / (1.0 + 0.25 + k), 1e-12);
+  // A hundred fixes that gathered a hundredth of what was unscaled, by turns on the heading and
+  // twice the unscaled variance off (as they scatter): together they weigh a hundredth of one fix
+  // (100 * 0.01^2 / 1.01^2) and leave the prior of 1 nearly as it was.
+  FixInnovations soon;
+  for (int i = 0; i < 100; ++i) soon.add(i % 2 == 0 ? -1.0 : 1.0, 0.01, 1.0);
+  const double w = 0.01 / (1.01 * 1.01);
+  EXPECT_NEAR(soon.variance_scale(1.0, kFixScaleFloor), k / (100 * w * 0.01 + k), 1e-9);
+  EXPECT_GT(soon.variance_scale(1.0, kFixScaleFloor), 0.95);
   // Fixes that land on the heading: narrowed, but never below the floor.
-  for (int i = 0; i < 50; ++i) f.add(-0.5, 1.0);
+  for (int i = 0; i < 50; ++i) f.add(-0.5, 1.0, 0.5);
   EXPECT_DOUBLE_EQ(f.variance_scale(1.5, kFixScaleFloor), kFixScaleFloor);
-  f.add(std::nan(""), 1.0);
-  f.add(1.0, 0.0);  // nothing gathered since the last fix: nothing to scale
-  EXPECT_EQ(f.fixes(), 51u);
+  f.add(std::nan(""), 1.0, 0.0);
+  f.add(1.0, 0.0, 0.0);  // nothing gathered since the last fix: nothing to scale
+  f.add(1.0, 1.0, -1.0);
+  EXPECT_EQ(f.fixes(), 52u);
 }
 
 TEST(StopInnovations, FixesThatFindTheHeadingCloserThanTheSigmaSaidNarrowIt) {
@@ -272,4 +287,51 @@ TEST(StopInnovations, AnExactFixOrOneFarOffIsNotCounted) {
   twin.run(60.0, 10.0, 0.5);
   twin.calibrated.set_heading(twin.calibrated.last().heading_deg + 0.2, 0.01);  // a fix within its sigma
   EXPECT_EQ(counted(), 1u);
+}
+
+TEST(StopInnovations, FrequentHonestFixesLeaveTheSigmaConsistent) {
+  // A localisation system sending the heading at 1 Hz with an honest sigma of 0.1 deg: between
+  // two fixes the filter gathers a tiny variance beside the 0.01 deg^2 the previous fix left, so
+  // one fix's error says almost nothing of the gathered part's size, which is what the factor
+  // scales once the fixes stop (a drive out of the map). Summed as if each fix told it, these
+  // runs put the factor at 15, 2.1, 0.25 (the floor) and 0.25 although the filter's own sigma is
+  // consistent (95-98 % of outputs within 2 sigma); weighed by what each can tell (240 of them
+  // about as much as one fix after a long drive), at 3.8, 1.0, 0.63 and 0.89. The outputs between
+  // 1 Hz fixes are within 2 sigma either way (the fix's own variance dominates them).
+  EstimatorSettings settings;
+  settings.automatic.scale_factor_sigma = 0.0;
+  const std::pair<unsigned, unsigned> seeds[] = {{11u, 3u}, {11u, 111u}, {12u, 112u}, {13u, 113u}};
+  for (const auto& [seed, fix_seed] : seeds) {
+    TwinRun twin(settings, seed);
+    std::mt19937_64 fix_rng(fix_seed);
+    std::normal_distribution<double> fix_noise(0.0, 0.1);
+    twin.run(30.0, 0.0, 0.0);
+    int within = 0, outputs = 0, plain_within = 0;
+    for (int c = 0; c < 4; ++c) {
+      for (int s = 0; s < 60; ++s) {
+        twin.run(1.0, 10.0, 0.5);
+        const Estimate& e = twin.calibrated.last();
+        within += std::abs(std::remainder(twin.truth_deg - e.heading_deg, 360.0)) <= 2.0 * e.heading_sigma_deg;
+        const Estimate& p = twin.plain.last();
+        plain_within += std::abs(std::remainder(twin.truth_deg - p.heading_deg, 360.0)) <= 2.0 * p.heading_sigma_deg;
+        ++outputs;
+        const double fix_deg = twin.truth_deg + fix_noise(fix_rng);
+        twin.calibrated.set_heading(fix_deg, 0.01);
+        twin.plain.set_heading(fix_deg, 0.01);
+      }
+      twin.run(30.0, 0.0, 0.0);
+    }
+    const auto* automatic = twin.calibrated.automatic();
+    std::printf(
+        "seeds %u/%u, 1 Hz fixes: factor %.3f on %llu fixes (the stops' %.3f); %d of %d outputs within 2 sigma "
+        "(%d with the filter's own)\n",
+        seed, fix_seed, automatic->heading_variance_scale(),
+        static_cast<unsigned long long>(automatic->fix_innovations().fixes()), automatic->stop_variance_scale(), within,
+        outputs, plain_within);
+    EXPECT_EQ(automatic->fix_innovations().fixes(), 240u);
+    EXPECT_GT(automatic->heading_variance_scale(), 0.4) << seed;
+    EXPECT_LT(automatic->heading_variance_scale(), 5.0) << seed;
+    EXPECT_GE(within, outputs * 85 / 100) << seed;
+    EXPECT_LE(within, outputs * 995 / 1000) << seed;
+  }
 }

@@ -10,19 +10,7 @@
 #  C. the Imu's angular velocity is the mean of the samples of its interval, to 1e-9 rad/s, and
 #     a ROS-default reliable reader and a sensor-data reader both get it with the documented
 #     setting (orientation_reliable = true); with the default, the sensor-data reader only.
-set -uo pipefail
-headingd="$1"
-peer="$2"
-root="$3"
-dir="$(mktemp -d)"
-[ -z "${KEEP:-}" ] || echo "keeping $dir"
-pids=()
-trap 'kill "${pids[@]}" 2>/dev/null; [ -n "${KEEP:-}" ] || rm -rf "$dir"' EXIT
-fail() {
-  echo "FAIL: $*"
-  exit 1
-}
-export CYCLONEDDS_URI="file://$root/tests/interop/cyclone.xml"
+source "$(dirname "$0")/ros2_common.sh"
 domain=61
 config() { # config FILE [extra lines...]
   local file="$1"
