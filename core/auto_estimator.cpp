@@ -65,7 +65,7 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
     filters_[2].fix_angle(fix_deg);
   } else if (!within_gate) {
     // Far outside the sigma: a frame being set (the vehicle's first absolute heading, known to a
-    // few degrees, against our 0 +- 0.01 at start-up) or a wrong fix. Weighed as a measurement it
+    // few degrees, against our 0 +- 0.03 at start-up) or a wrong fix. Weighed as a measurement it
     // would barely move the heading and would push its whole innovation into the bias through
     // their correlation (0.5 rad at 1e-7 rad^2 left a still gyro turning 0.3 deg/s). Taken as the
     // new reference instead: the heading and its variance are the fix's, the bias is untouched.

@@ -91,7 +91,7 @@ class FixInnovations {
     gathered_ += weight * gathered_deg2;
     ++count_;
   }
-  // `prior_scale` (the stops' factor) weighed as one fully informative fix; never below `floor`
+  // `prior_scale` (the stops' factor) weighed as kFixPriorWeight fully informative fixes; never below `floor`
   // (a few fixes that happen to land near the heading say little of the variance's size).
   double variance_scale(double prior_scale, double floor) const {
     if (count_ == 0) return prior_scale;
