@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -116,6 +119,41 @@ TEST(StateFile, CorruptTruncatedForeignAndMissingAreRejectedClearly) {
     FAIL();
   } catch (const StateError& error) {
     EXPECT_NE(std::string(error.what()).find("No such file"), std::string::npos);
+  }
+}
+
+namespace {
+// The file's checksum (FNV-1a, 64 bit, over everything before "checksum="), recomputed: a file
+// edited by hand or by a tool that knows the format gets past it.
+std::string resigned(const std::string& text) {
+  const std::string body = text.substr(0, text.rfind("checksum="));
+  std::uint64_t h = 1469598103934665603ull;
+  for (const char ch : body) {
+    h ^= static_cast<unsigned char>(ch);
+    h *= 1099511628211ull;
+  }
+  char line[48];
+  std::snprintf(line, sizeof line, "checksum=%016llx\n", static_cast<unsigned long long>(h));
+  return body + line;
+}
+}  // namespace
+
+TEST(StateFile, ATemperaturePointCountThatIsNoCountIsRefusedByName) {
+  const std::string good = format_state(sample_state(-0.4));
+  EXPECT_NO_THROW(parse_state(resigned(good), "s")) << "the recomputed checksum is the file's own";
+  const auto at = good.find("temperature_model_z=12 ");
+  ASSERT_NE(at, std::string::npos) << good;
+  for (const char* count : {"nan", "-1", "1e30", "2.5", "4294967296"}) {
+    std::string text = good;
+    text.replace(at, std::strlen("temperature_model_z=12"), std::string("temperature_model_z=") + count);
+    try {
+      parse_state(resigned(text), "edited.state");
+      ADD_FAILURE() << "accepted a point count of " << count;
+    } catch (const StateError& error) {
+      const std::string what = error.what();
+      EXPECT_NE(what.find("temperature_model_z: point count out of range"), std::string::npos) << what;
+      EXPECT_NE(what.find("edited.state"), std::string::npos) << what;
+    }
   }
 }
 
