@@ -14,17 +14,13 @@
 #include <cstdlib>
 #include <vector>
 
+#include "quantile.hpp"
 #include "seed_pool.hpp"
 #include "sim/own_model_world.hpp"
 
 using namespace headingd;
 
 namespace {
-
-double quantile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
-}
 
 void report(const char* name, const std::vector<drivers::OwnModelRun>& runs) {
   std::uint64_t samples = 0, within = 0;
@@ -47,7 +43,8 @@ void report(const char* name, const std::vector<drivers::OwnModelRun>& runs) {
   std::printf("  per run: %d of %zu runs with 85-99.5 %% within 2 sigma (%d below 60 %%, %d above 99.5 %%)\n", in_band,
               runs.size(), below_60, above);
   std::printf("  per-run share within 2 sigma, p10 / p50 / p90: %.1f / %.1f / %.1f %%; mean NEES p50 %.2f\n",
-              quantile(shares, 0.1), quantile(shares, 0.5), quantile(shares, 0.9), quantile(nees, 0.5));
+              bench::quantile(shares, 0.1), bench::quantile(shares, 0.5), bench::quantile(shares, 0.9),
+              bench::quantile(nees, 0.5));
 }
 
 }  // namespace

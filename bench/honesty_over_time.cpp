@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/estimator.hpp"
+#include "quantile.hpp"
 #include "seed_pool.hpp"
 #include "sim/gyro_simulator.hpp"
 
@@ -61,12 +62,6 @@ SeedResult run_seed(std::uint64_t seed, double hours) {
   return parts;
 }
 
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -102,8 +97,8 @@ int main(int argc, char** argv) {
     for (const std::uint64_t w : within)
       std::printf("  %6.1f%%",
                   100.0 * static_cast<double>(w) / static_cast<double>(std::max<std::uint64_t>(1, outputs)));
-    std::printf(" | %15d %5d %8d | %13.2f %5.2f\n", in_band, below_60, above, quantile(factors, 0.5),
-                quantile(factors, 0.9));
+    std::printf(" | %15d %5d %8d | %13.2f %5.2f\n", in_band, below_60, above, bench::quantile(factors, 0.5),
+                bench::quantile(factors, 0.9));
   }
   std::printf("(a consistent sigma: 68.3 %% at k=0.5, 95.4 %% at k=1 in every quarter)\n");
   return 0;

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -154,7 +155,8 @@ SavedState parse_state(const std::string& text, const std::string& name) {
     const auto& t = need(std::string("temperature_model_") + "xyz"[a], 12);
     auto& sums = s.temperature_sums[static_cast<std::size_t>(a)];
     // The count is whole and fits its type: a cast of anything else would be undefined.
-    if (!(t[0] >= 0.0 && t[0] <= 4294967295.0 && std::floor(t[0]) == t[0]))
+    if (!(t[0] >= 0.0 && t[0] <= static_cast<double>(std::numeric_limits<std::uint32_t>::max()) &&
+          std::floor(t[0]) == t[0]))
       fail(std::string("field temperature_model_") + "xyz"[a] + ": point count out of range");
     s.temperature_points[static_cast<std::size_t>(a)] = static_cast<std::uint32_t>(t[0]);
     sums.normal << t[1], t[2], t[3], t[2], t[4], t[5], t[3], t[5], t[6];
