@@ -1,6 +1,9 @@
 #include "app/live_source.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include "hw/gpiod_data_ready.hpp"
 #include "hw/kernel_binding.hpp"
@@ -8,6 +11,20 @@
 #include "hw/sensor_limits.hpp"
 
 namespace headingd::app {
+namespace {
+
+// The simulator's fault times come from hidden test switches, in seconds: negative is off; NaN, or
+// a time beyond a year (its nanoseconds would not fit the simulator's int64 clock far sooner than
+// that matters), is refused by name rather than cast into undefined behaviour.
+std::int64_t fault_time_ns(const char* option, double seconds) {
+  constexpr double kYearS = 365.25 * 86400.0;
+  if (seconds < 0.0) return -1;
+  if (!(seconds <= kYearS))
+    throw std::runtime_error(std::string("sensor settings: ") + option + " must be a time in seconds up to a year");
+  return static_cast<std::int64_t>(seconds * 1e9);
+}
+
+}  // namespace
 
 LiveSource::LiveSource(const SensorOptions& options) : options_(options) {
   if (const auto allowed = drivers::address_not_allowed(options.address))
@@ -26,15 +43,18 @@ LiveSource::LiveSource(const SensorOptions& options) : options_(options) {
   if (options.simulated_chip) {
     drivers::L3gd20hSimSettings sim;
     sim.address = settings.address;
+    // The datasheet's ODR tolerance is +-15 %; a factor at or below -1 would stop the simulated clock.
+    if (!(std::fabs(options.sim_rate_error) <= 0.5))
+      throw std::runtime_error("sensor settings: --sim-rate-error must lie within -0.5..0.5");
     sim.rate_error = options.sim_rate_error;
     simulator_ = std::make_unique<drivers::L3gd20hSimulator>(sim, *options.simulated_chip, options.sim_seed);
     simulator_->set_realtime(options.sim_realtime);
-    if (options.sim_dead_after_s >= 0)
-      simulator_->inject_dead_after(static_cast<std::int64_t>(options.sim_dead_after_s * 1e9));
-    if (options.sim_nack_at_s >= 0)
-      simulator_->inject_nack_at(static_cast<std::int64_t>(options.sim_nack_at_s * 1e9), 3);
-    if (options.sim_stuck_at_s >= 0)
-      simulator_->inject_stuck_at(static_cast<std::int64_t>(options.sim_stuck_at_s * 1e9), 3'000'000'000);
+    const auto dead_ns = fault_time_ns("--sim-dead-after", options.sim_dead_after_s);
+    const auto nack_ns = fault_time_ns("--sim-nack-at", options.sim_nack_at_s);
+    const auto stuck_ns = fault_time_ns("--sim-stuck-at", options.sim_stuck_at_s);
+    if (dead_ns >= 0) simulator_->inject_dead_after(dead_ns);
+    if (nack_ns >= 0) simulator_->inject_nack_at(nack_ns, 3);
+    if (stuck_ns >= 0) simulator_->inject_stuck_at(stuck_ns, 3'000'000'000);
     bus = simulator_.get();
     ready = simulator_.get();
   } else {

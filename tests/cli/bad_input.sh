@@ -121,6 +121,13 @@ expect state-device 0 "/dev/zero: not a regular file" -- run --no-dds --simulate
 [ -e "$dir/.tmp" ] || [ -e ./.tmp ] && { echo "FAIL stray .tmp"; failures=$((failures + 1)); }
 printf '[dds]\nprofiles_xml = "%s/none.xml"\n' "$dir" >"$dir/noxml.toml"
 expect profiles-xml-unreadable 78 "noxml.toml:2:16: 'dds.profiles_xml' is '$dir/none.xml': cannot read it" -- run --simulated-chip still --duration 1 -c "$dir/noxml.toml"
+# The simulator's hidden fault switches: a time that is no time (its nanoseconds were an unchecked
+# int64 cast) and a rate error that stops the simulated clock (it hung) are refused by name.
+for bad in nan 1e30 inf; do
+  expect "sim-dead-after-$bad" 66 "--sim-dead-after must be a time in seconds up to a year" -- run --no-dds --simulated-chip still --duration 1 --sim-dead-after "$bad" -o /dev/null
+done
+expect sim-stuck-at-huge 66 "--sim-stuck-at must be a time in seconds up to a year" -- run --no-dds --simulated-chip still --duration 1 --sim-stuck-at 1e12 -o /dev/null
+expect sim-rate-error 66 "--sim-rate-error must lie within -0.5..0.5" -- run --no-dds --simulated-chip still --duration 1 --sim-rate-error -1 -o /dev/null
 
 # allan --emit-config prints only what --config accepts, even for a noiseless (constant) recording.
 awk 'BEGIN { print "time_s,gx_dps,gy_dps,gz_dps"; for (k = 0; k < 40000; ++k) printf "%.4f,0.5,0.5,0.5\n", k / 400 }' >"$dir/const.csv"
