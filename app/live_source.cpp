@@ -13,9 +13,9 @@
 namespace headingd::app {
 namespace {
 
-// The simulator's fault times come from hidden test switches, in seconds: negative is off; NaN, or
-// a time beyond a year (its nanoseconds would not fit the simulator's int64 clock far sooner than
-// that matters), is refused by name rather than cast into undefined behaviour.
+// The simulator's fault times come from hidden test switches, in seconds: negative is off. NaN and
+// anything beyond a year (no test waits that long; past 292 years the nanoseconds overflow int64)
+// are refused by name rather than cast into undefined behaviour.
 std::int64_t fault_time_ns(const char* option, double seconds) {
   constexpr double kYearS = 365.25 * 86400.0;
   if (seconds < 0.0) return -1;
