@@ -47,6 +47,31 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
   motion_since_basis_ = false;
 }
 
+void AutoEstimator::carry_restored_bias(double saved_c, double measured_c) {
+  if (!std::isfinite(saved_c)) return;
+  restored_at_c_ = saved_c;
+  restored_measured_c_ = std::isfinite(measured_c) ? measured_c : saved_c;
+  if (started_) follow_restored_temperature(previous_t_s_);
+}
+
+void AutoEstimator::follow_restored_temperature(double t_s) {
+  const double now_c = previous_temp_c_;
+  if (!std::isfinite(now_c)) return;  // no reading yet: follow_temperature() tries again
+  const double saved_c = restored_at_c_, measured_c = restored_measured_c_;
+  restored_at_c_ = restored_measured_c_ = std::numeric_limits<double>::quiet_NaN();
+  // As if the bias had been measured at `measured` and followed the temperature to `saved`
+  // while running (its saved sigma holds that share): the step to now adds the rest of it.
+  // No time passes in the step, so the heading gains no cross term; the angle the bias error
+  // costs from here is propagated from the widened bias variance as always.
+  temp_at_bias_c_.fill(measured_c);
+  temp_change_integral_c_s_.fill(0.0);
+  temp_at_still_c_ = measured_c;
+  previous_temp_c_ = saved_c;
+  temp_change_t_s_ = t_s;
+  follow_temperature(now_c, t_s);
+  previous_temp_c_ = now_c;
+}
+
 double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   const double before_deg = filters_[2].angle_deg();
   const double shown_before_deg = before_deg + shown_undecided_deg_;  // as last shown
@@ -146,6 +171,8 @@ HEADINGD_HOT bool AutoEstimator::range_gate_trips(const Vec3& rate_dps) const {
 }
 
 HEADINGD_HOT void AutoEstimator::follow_temperature(double temp_c, double t_s) {
+  if (std::isfinite(restored_at_c_)) [[unlikely]]
+    follow_restored_temperature(t_s);  // the first reading came after the first sample
   // The kept version of a pending recovery: the temperature's integral since (its angle's share).
   if (replaced_.pending && std::isfinite(previous_temp_c_) && std::isfinite(replaced_.temp_at_c)) {
     replaced_.warmed_c_s += (previous_temp_c_ - replaced_.temp_at_c) * std::max(0.0, t_s - replaced_.warmed_t_s);
@@ -245,6 +272,7 @@ void AutoEstimator::start(const Sample& sample) {
   if (!std::isfinite(startup_start_t_s_)) startup_start_t_s_ = sample.t_s;
   previous_t_s_ = sample.t_s;
   previous_temp_c_ = sample.temp_c;
+  if (std::isfinite(restored_at_c_)) follow_restored_temperature(sample.t_s);
   begin_segment(sample.t_s);
   add_to_segment(sample, 0.0);
   attitude_at_startup_ = attitude_.attitude();

@@ -10,6 +10,7 @@
 //  - a bias-versus-temperature model that carries the bias while the platform drives;
 //  - honest uncertainty: heading variance from white noise and bias uncertainty.
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -63,6 +64,18 @@ class AutoEstimator {
   void restore_scale(double estimate, double sigma) { scale_.restore(estimate, sigma); }
   // Restores a bias (after a restart) with its sigma; ends the start-up phase.
   void set_bias(const Vec3& bias_dps, const Vec3& sigma_dps);
+  // The bias just restored held at `saved_c` and was last measured at `measured_c` (NaN:
+  // unknown, then nothing is carried). At the first temperature read it follows the change to
+  // it as a step while running would: moved by the temperature model where one is in use, its
+  // sigma widened by the slope's uncertainty (or the unmodelled bound) over the change since
+  // it was measured. Call after the temperature models are restored.
+  void carry_restored_bias(double saved_c, double measured_c);
+  // The temperature now and the one the bias was last measured at, as the estimator reads
+  // them (NaN: unknown, or before the first sample); saved beside the bias.
+  double temperature_now_c() const { return started_ ? previous_temp_c_ : std::numeric_limits<double>::quiet_NaN(); }
+  double bias_measured_temp_c() const {
+    return started_ && std::isfinite(temp_at_bias_c_[2]) ? temp_at_bias_c_[2] : temperature_now_c();
+  }
   // Restores the noise figures learned before a restart (unless configured): without them a
   // restart that skips the start-up segment would have no scale for its stillness tests.
   void set_noise(const Vec3& sigma_still_dps, const Vec3& arw_dps_rt_hz) {
@@ -155,6 +168,8 @@ class AutoEstimator {
   SegmentVerdict close_segment();
   void accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double t_s);
   void follow_temperature(double temp_c, double t_s);
+  // A restored bias follows the change from its saved temperature to the one read now.
+  void follow_restored_temperature(double t_s);
   // Whether a temperature model carries the z bias between measurements (BiasHistory).
   bool z_carried_by_model() const { return settings_.use_temperature && models_.temperature_model(2).ready(); }
   // The bias was just measured (or restored) at this temperature: the share of its variance
@@ -256,6 +271,9 @@ class AutoEstimator {
   // rests on; motion (a range gate trip) has come since that basis.
   bool bias_confirmed_ = false;
   bool motion_since_basis_ = false;
+  // A restored bias's temperatures until the first temperature read carries it (NaN: none).
+  double restored_at_c_ = std::numeric_limits<double>::quiet_NaN();
+  double restored_measured_c_ = std::numeric_limits<double>::quiet_NaN();
   double temp_at_still_c_ = std::numeric_limits<double>::quiet_NaN();  // mean of the last accepted
   std::uint64_t refused_recoveries_ = 0;
   // Extends the run with the segment just rejected, or starts it; recovers when it is long.

@@ -77,6 +77,12 @@ struct LearnedState {
   // NaN sigma: none learned.
   double scale_z = 0.0;
   double scale_z_sigma = std::numeric_limits<double>::quiet_NaN();
+  // The temperature when saved (as the estimator reads it) and the one the bias was last measured
+  // at; NaN: unknown. A restart at another temperature carries the bias across the change, as
+  // a temperature step while running would: without them a daemon stopped warm and started cold
+  // judged its first stops against the warm bias at the warm bias's sigma and rejected them.
+  double temp_c = std::numeric_limits<double>::quiet_NaN();
+  double bias_measured_temp_c = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace headingd::core

@@ -69,6 +69,11 @@ std::optional<std::string> implausible(const LearnedState& s) {
   if (!std::isnan(s.heading_variance_deg2) && !(s.heading_variance_deg2 >= 0.0 && s.heading_variance_deg2 <= 1e6))
     return "heading variance not within 0..1e6 deg^2";
   if (!std::isfinite(s.heading_fix_offset_deg)) return "heading offset not finite";
+  const auto temperature_ok = [](double t) {
+    return std::isnan(t) || (t >= kMinPlausibleTempC && t <= kMaxPlausibleTempC);
+  };
+  if (!temperature_ok(s.temp_c) || !temperature_ok(s.bias_measured_temp_c))
+    return "temperature not within -60..150 degC";
   if (!std::isnan(s.scale_z_sigma) &&
       !(std::abs(s.scale_z) <= kMaxLearnedScale && s.scale_z_sigma >= 0.0 && s.scale_z_sigma <= 0.5))
     return "z scale factor not within +-0.05 (sigma 0..0.5)";
@@ -223,6 +228,8 @@ LearnedState Estimator::learned_now() const {
       state.temperature_sums[axis] = a->temperature_model(static_cast<int>(axis)).sums();
       state.temperature_points[axis] = a->temperature_model(static_cast<int>(axis)).points();
     }
+    state.temp_c = a->temperature_now_c();
+    state.bias_measured_temp_c = a->bias_measured_temp_c();
   }
   return state;
 }
@@ -244,6 +251,7 @@ void Estimator::restore(const LearnedState& state, bool with_heading) {
     for (std::size_t axis = 0; axis < 3; ++axis)
       a->restore_temperature_model(static_cast<int>(axis), state.temperature_sums[axis],
                                    state.temperature_points[axis]);
+    a->carry_restored_bias(state.temp_c, state.bias_measured_temp_c);  // after the models it may use
   }
 }
 

@@ -61,6 +61,8 @@ std::string format_state(const SavedState& s) {
   body << "bias_dps=" << numbers({s.bias_dps.x(), s.bias_dps.y(), s.bias_dps.z()}) << "\n";
   body << "bias_sigma_dps=" << numbers({s.bias_sigma_dps.x(), s.bias_sigma_dps.y(), s.bias_sigma_dps.z()}) << "\n";
   body << "temp_c=" << numbers({s.temp_c}) << "\n";
+  // Optional (files from before it lack it; their temp_c is nan): where the bias was measured.
+  if (!std::isnan(s.bias_measured_temp_c)) body << "bias_measured_temp_c=" << numbers({s.bias_measured_temp_c}) << "\n";
   body << "sigma_still_dps=" << numbers({s.sigma_still_dps.x(), s.sigma_still_dps.y(), s.sigma_still_dps.z()}) << "\n";
   body << "arw_dps_rt_hz=" << numbers({s.arw_dps_rt_hz.x(), s.arw_dps_rt_hz.y(), s.arw_dps_rt_hz.z()}) << "\n";
   // Optional (files from before it lack it): heading, its variance (nan: none) and fix offset.
@@ -129,7 +131,14 @@ SavedState parse_state(const std::string& text, const std::string& name) {
   if (!s.bias_dps.allFinite() || !s.bias_sigma_dps.allFinite() || (s.bias_sigma_dps.array() < 0).any() ||
       s.bias_dps.cwiseAbs().maxCoeff() > 100.0 || s.bias_sigma_dps.maxCoeff() > 100.0)
     fail("bias values out of range");
-  s.temp_c = need("temp_c", 1)[0];
+  const auto temperature = [&](const std::string& key) {
+    const double t = need(key, 1)[0];
+    if (!std::isnan(t) && !(t >= core::kMinPlausibleTempC && t <= core::kMaxPlausibleTempC))
+      fail("field " + key + ": temperature out of range");
+    return t;
+  };
+  s.temp_c = temperature("temp_c");
+  if (fields.count("bias_measured_temp_c") != 0) s.bias_measured_temp_c = temperature("bias_measured_temp_c");
   const auto& ss = need("sigma_still_dps", 3);
   const auto& arw = need("arw_dps_rt_hz", 3);
   s.sigma_still_dps = core::Vec3(ss[0], ss[1], ss[2]);

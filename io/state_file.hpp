@@ -16,9 +16,8 @@
 
 namespace headingd::app {
 
-// What the estimator learned (core::LearnedState), and when and at what temperature.
+// What the estimator learned (core::LearnedState, its temperatures too), and when.
 struct SavedState : core::LearnedState {
-  double temp_c = 0.0;  // NaN when unknown
   double saved_unix_s = 0.0;
 };
 

@@ -1,7 +1,7 @@
 #include "pipeline/state_sink.hpp"
 
 #include <cmath>
-#include <limits>
+#include <cstdio>
 #include <stdexcept>
 
 #include "dds/dds_participant.hpp"
@@ -14,7 +14,6 @@ namespace {
 app::SavedState to_saved(const core::LearnedState& learned) {
   app::SavedState state;
   static_cast<core::LearnedState&>(state) = learned;
-  state.temp_c = std::numeric_limits<double>::quiet_NaN();
   state.saved_unix_s = app::wall_now_s();
   return state;
 }
@@ -45,9 +44,15 @@ void restore_state(core::Estimator& estimator, const std::string& path, bool wit
   try {
     const app::SavedState saved = app::load_state(path);
     estimator.restore(saved, with_heading);
+    std::string saved_at;
+    if (std::isfinite(saved.temp_c)) {
+      char text[96];
+      std::snprintf(text, sizeof text, " (saved at %.1f degC: carried to the temperature read at start)", saved.temp_c);
+      saved_at = text;
+    }
     app::log(app::LogPriority::Info, "state",
              std::string("bias ") + (with_heading && std::isfinite(saved.heading_deg) ? "and heading " : "") +
-                 "restored from " + path);
+                 "restored from " + path + saved_at);
   } catch (const app::StateError& error) {
     app::log(app::LogPriority::Notice, "state", error.what());
   } catch (const std::invalid_argument& error) {

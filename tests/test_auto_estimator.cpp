@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <tuple>
@@ -30,6 +31,9 @@ class Rig {
   }
   // The true z bias moves by `offset_dps` from now on (a shock, a trim change: no temperature).
   void shift_bias(double offset_dps) { bias_offset_dps_ += offset_dps; }
+  // The true z bias follows the temperature by `dps_per_c` from 30 degC on (default: it does not).
+  void set_bias_per_c(double dps_per_c) { bias_per_c_ = dps_per_c; }
+  double true_bias_z() const { return -0.45 + bias_offset_dps_ + bias_per_c_ * (temp_c_ - 30.0); }
   // `seconds` of signal with true z rate `rate_dps` on top of bias and white noise.
   void run(double seconds, double rate_dps, double vibration_dps = 0.0) {
     const auto n = static_cast<int>(std::lround(seconds * kRateHz));
@@ -37,10 +41,11 @@ class Rig {
       Sample s;
       s.t_s = static_cast<double>(index_++) / kRateHz;
       s.temp_c = temp_c_;
+      const double bias_z = true_bias_z();
       temp_c_ += temp_c_per_s_ / kRateHz;
       const double shake = vibration_dps * noise_(rng_);
       s.rate_dps = Vec3(0.3 + 0.05 * noise_(rng_) + shake, -0.2 + 0.05 * noise_(rng_) + shake,
-                        -0.45 + bias_offset_dps_ + rate_dps * scale_ + 0.2 * noise_(rng_) + 0.3 * shake);
+                        bias_z + rate_dps * scale_ + 0.2 * noise_(rng_) + 0.3 * shake);
       true_heading_ += rate_dps / kRateHz * (index_ > 1 ? 1.0 : 0.0);
       const auto& e = estimator_.update(s);
       if (e.closed.closed) {
@@ -67,6 +72,7 @@ class Rig {
   double temp_c_ = 30.0;
   double temp_c_per_s_ = 0.0;
   double bias_offset_dps_ = 0.0;
+  double bias_per_c_ = 0.0;
 };
 
 }  // namespace
@@ -931,4 +937,98 @@ TEST(AutoEstimator, AStopWhoseLevelFollowsAnotherSlopeRefutesAWrongTemperatureMo
   EXPECT_NEAR(estimator.last().bias_dps.z(), -0.45 - 0.004 * 10.0, 0.005);
   EXPECT_LT(std::abs(error_deg), std::abs(error_at_stop_deg) + 1.0) << "the stop held the heading";
   EXPECT_LT(std::abs(error_deg), 3.0 * estimator.last().heading_sigma_deg);
+}
+
+namespace {
+// The first stops and a drive after a restart at another temperature (the bias follows it by
+// `per_c`): the stops' share accepted and the heading error after the drive.
+struct AfterRestart {
+  int accepted = 0, closed = 0;
+  double bias_error_dps = 0.0, heading_error_deg = 0.0;
+};
+AfterRestart restart_at(double temp_c, double per_c, const LearnedState& saved) {
+  Rig cold;
+  cold.set_bias_per_c(per_c);
+  cold.set_temperature(temp_c);
+  cold.estimator().restore(saved, false);  // the warm run's heading is another run's
+  cold.run(30.0, 0.0);                     // parked after the start, as a vehicle is
+  AfterRestart after;
+  after.accepted = cold.accepted();
+  after.closed = cold.closed();
+  after.bias_error_dps = cold.estimator().last().bias_dps.z() - cold.true_bias_z();
+  cold.run(60.0, 10.0, 1.0);
+  after.heading_error_deg = cold.error();
+  return after;
+}
+}  // namespace
+
+// A daemon stopped warm and started cold: the saved bias holds at the saved temperature, and
+// the first stops are judged against what the change can have done to it. Before the state kept
+// its temperature every stop here was rejected against the warm bias at its warm sigma (0 of 9)
+// and the drive integrated the difference: 11.4 deg after 60 s.
+TEST(AutoEstimator, ARestartAtAnotherTemperatureCarriesTheBiasAcrossTheChange) {
+  constexpr double kPerC = 0.005;  // issue 12's coefficient: 0.125 dps over the 25 degC below
+  Rig warm;
+  warm.set_bias_per_c(kPerC);
+  warm.set_temperature(45.0);
+  warm.run(30.0, 0.0);
+  warm.run(10.0, 20.0, 1.0);
+  warm.run(30.0, 0.0);
+  const LearnedState saved = warm.estimator().learned();
+  EXPECT_DOUBLE_EQ(saved.temp_c, 45.0);
+  EXPECT_DOUBLE_EQ(saved.bias_measured_temp_c, 45.0);
+  ASSERT_FALSE(warm.estimator().automatic()->temperature_model(2).ready()) << "no model: the bound alone";
+  const AfterRestart cold = restart_at(20.0, kPerC, saved);
+  EXPECT_GE(cold.accepted, cold.closed - 3) << "the first stop measures the bias the cold gave";
+  EXPECT_NEAR(cold.bias_error_dps, 0.0, 0.005);
+  EXPECT_LT(std::abs(cold.heading_error_deg), 0.5);
+  LearnedState without = saved;  // a state file of before: no temperatures in it
+  without.temp_c = without.bias_measured_temp_c = std::numeric_limits<double>::quiet_NaN();
+  const AfterRestart before = restart_at(20.0, kPerC, without);
+  EXPECT_EQ(before.accepted, 0) << "what the temperatures mend: every stop rejected against the warm bias";
+  EXPECT_GT(std::abs(before.heading_error_deg), 5.0);
+  std::printf(
+      "restart 25 degC colder: stops accepted %d of %d, heading error after the drive %.2f deg "
+      "(without the saved temperatures: %d of %d, %.2f deg)\n",
+      cold.accepted, cold.closed, cold.heading_error_deg, before.accepted, before.closed, before.heading_error_deg);
+  const AfterRestart same = restart_at(45.0, kPerC, saved);  // and no harm where nothing changed
+  EXPECT_GE(same.accepted, same.closed - 2) << same.accepted << " of " << same.closed;
+  EXPECT_LT(std::abs(same.heading_error_deg), 0.5);
+}
+
+// Where a temperature model was learned before the restart, it moves the restored bias to the
+// temperature read after it (here below every temperature it saw: extrapolated).
+TEST(AutoEstimator, ARestartAtAnotherTemperatureMovesTheBiasByTheModelItRestored) {
+  constexpr double kPerC = 0.006;
+  Rig warm;
+  warm.set_bias_per_c(kPerC);
+  warm.set_temperature(25.0, 1.0 / 60.0);  // 25 to 45 degC in 20 minutes, a stop each minute
+  for (int minute = 0; minute < 20; ++minute) {
+    warm.run(45.0, 0.0);
+    warm.run(15.0, minute % 2 == 0 ? 12.0 : -12.0, 1.0);
+  }
+  warm.set_temperature(45.0);
+  warm.run(30.0, 0.0);
+  const LearnedState saved = warm.estimator().learned();
+  ASSERT_TRUE(warm.estimator().automatic()->temperature_model(2).ready());
+  EXPECT_NEAR(saved.temp_c, 45.0, 0.01);
+  Estimator restarted;
+  restarted.restore(saved, false);
+  Sample first;
+  first.temp_c = 15.0;
+  first.rate_dps = Vec3(0.3, -0.2, -0.45 + kPerC * (15.0 - 30.0));
+  restarted.update(first);
+  EXPECT_NEAR(restarted.last().bias_dps.z(), -0.45 + kPerC * (15.0 - 30.0), 0.02)
+      << "moved by the model before any stop (saved at " << saved.bias_dps.z() << ")";
+  const AfterRestart cold = restart_at(15.0, kPerC, saved);
+  EXPECT_GE(cold.accepted, cold.closed - 3);
+  EXPECT_NEAR(cold.bias_error_dps, 0.0, 0.005);
+  EXPECT_LT(std::abs(cold.heading_error_deg), 0.5);
+  LearnedState without = saved;
+  without.temp_c = without.bias_measured_temp_c = std::numeric_limits<double>::quiet_NaN();
+  const AfterRestart before = restart_at(15.0, kPerC, without);
+  std::printf(
+      "restart 30 degC colder, model learned: stops accepted %d of %d, heading error after the drive "
+      "%.2f deg (without the saved temperatures: %d of %d, %.2f deg)\n",
+      cold.accepted, cold.closed, cold.heading_error_deg, before.accepted, before.closed, before.heading_error_deg);
 }

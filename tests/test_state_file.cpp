@@ -164,6 +164,41 @@ TEST(StateFile, UnknownTemperatureRoundTrips) {
   s.temp_c = std::numeric_limits<double>::quiet_NaN();
   save_state(path, s);
   EXPECT_TRUE(std::isnan(load_state(path).temp_c));
+  EXPECT_TRUE(std::isnan(load_state(path).bias_measured_temp_c)) << "written only when known";
+  EXPECT_EQ(format_state(s).find("bias_measured_temp_c"), std::string::npos) << "files of before still read";
+}
+
+TEST(StateFile, TheTemperatureTheBiasWasMeasuredAtRoundTrips) {
+  TempDir dir;
+  const auto path = dir.path("state");
+  SavedState s = sample_state(-0.4);
+  s.bias_measured_temp_c = 28.123456789;
+  save_state(path, s);
+  EXPECT_EQ(load_state(path).bias_measured_temp_c, s.bias_measured_temp_c);
+  EXPECT_EQ(load_state(path).temp_c, s.temp_c);
+}
+
+TEST(StateFile, ATemperatureBeyondWhatASampleMayCarryIsRefusedByName) {
+  SavedState s = sample_state(-0.4);
+  s.bias_measured_temp_c = 28.0;
+  const std::string good = format_state(s);
+  for (const char* field : {"temp_c=31.5", "bias_measured_temp_c=28"}) {
+    const auto at = good.find(std::string("\n") + field + "\n");
+    ASSERT_NE(at, std::string::npos) << field << " in " << good;
+    const std::string key = std::string(field).substr(0, std::string(field).find('='));
+    for (const char* value : {"1e30", "-inf", "151", "-61"}) {
+      std::string text = good;
+      text.replace(at + 1, std::strlen(field), key + "=" + value);
+      try {
+        parse_state(resigned(text), "edited.state");
+        ADD_FAILURE() << "accepted " << key << "=" << value;
+      } catch (const StateError& error) {
+        const std::string what = error.what();
+        EXPECT_NE(what.find("field " + key + ": temperature out of range"), std::string::npos) << what;
+        EXPECT_NE(what.find("edited.state"), std::string::npos) << what;
+      }
+    }
+  }
 }
 
 namespace {

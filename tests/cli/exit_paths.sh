@@ -70,6 +70,10 @@ run_case() {
 
 run_case end-of-input 0 0 run --recording "$recording" --speed max --output "$dir/est.csv"
 run_case sigterm 0 5 run --simulated-chip still --sim-realtime
+# The chip reports a temperature: the state keeps it and the bias's, which a restart at another
+# temperature carries the bias across.
+grep -Eq '^temp_c=-?[0-9]' "$dir/sigterm/state" && grep -Eq '^bias_measured_temp_c=-?[0-9]' "$dir/sigterm/state" ||
+  fail "sigterm: the state keeps no temperature: $(grep temp_c "$dir/sigterm/state" | tr '\n' ' ')"
 # A recording paced in real time with a 3 h gap after its first 5 s: SIGTERM inside the gap.
 awk -F, '/^[0-9]/ && $1 > 5 { exit } { print }' "$recording" >"$dir/gap.csv"
 awk -F, -v OFS=, '/^[0-9]/ && $1 > 5 { $1 = sprintf("%.6f", $1 + 10800); print }' "$recording" >>"$dir/gap.csv"
