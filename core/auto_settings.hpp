@@ -72,6 +72,13 @@ struct AutoSettings {
   // practice (the datasheet states +-25 dps at 2000 dps only); chips with a wider zero-rate
   // tolerance set their own.
   double zero_rate_sigma_dps = 2.0;
+  // How far the zero-rate level may move while the daemon is down (a power cycle, the board's
+  // stress changing: datasheet section 2.6.2 warns that mounting stress shifts it), 1 sigma,
+  // dps: added to a restored bias's sigma, so that the first stops measure a shifted bias rather
+  // than be rejected against a sigma learned while running. The datasheet gives no turn-on
+  // repeatability; 0.02 keeps a restart no worse than a start without state for shifts up to
+  // 0.05 dps (AutoEstimator.ARestoredBiasLeavesRoomForWhatTheTimeDownMoved), and far narrower than the prior.
+  double restart_bias_sigma_dps = 0.02;
   double creep_prior = 0.1;
   // Time constant of the running estimate of sample-to-sample noise (vibration), s: while it
   // exceeds the still noise, the heading variance grows with it instead.

@@ -52,12 +52,16 @@ LearnedState savable(LearnedState state) {
   return state;
 }
 
+namespace {
+constexpr double kMaxRestoredBiasSigmaDps = 100.0;
+}  // namespace
+
 std::optional<std::string> implausible(const LearnedState& s) {
   const auto in = [](const Vec3& v, double lo, double hi) {
     return v.allFinite() && v.minCoeff() >= lo && v.maxCoeff() <= hi;
   };
   if (!in(s.bias_dps, -kMaxPlausibleRateDps, kMaxPlausibleRateDps)) return "bias beyond any gyro's range";
-  if (!in(s.bias_sigma_dps, 0.0, 100.0)) return "bias sigma not within 0..100 dps";
+  if (!in(s.bias_sigma_dps, 0.0, kMaxRestoredBiasSigmaDps)) return "bias sigma not within 0..100 dps";
   if (!in(s.sigma_still_dps, 0.0, 100.0)) return "still noise not within 0..100 dps";
   if (!in(s.arw_dps_rt_hz, 0.0, 100.0)) return "noise density not within 0..100 dps/sqrt(Hz)";
   for (std::size_t axis = 0; axis < 3; ++axis) {
@@ -253,6 +257,20 @@ void Estimator::restore(const LearnedState& state, bool with_heading) {
                                    state.temperature_points[axis]);
     a->carry_restored_bias(state.temp_c, state.bias_measured_temp_c);  // after the models it may use
   }
+}
+
+void Estimator::restore_after_restart(const LearnedState& state, bool with_heading) {
+  // The sigma learned while running says nothing of what the time down moved (auto only).
+  if (const auto problem = implausible(state)) throw std::invalid_argument("state refused: " + *problem);
+  LearnedState widened = state;
+  if (method() == Method::Auto) {
+    const double turn_on_dps = settings_.automatic.restart_bias_sigma_dps;
+    widened.bias_sigma_dps = (state.bias_sigma_dps.array().square() + turn_on_dps * turn_on_dps)
+                                 .sqrt()
+                                 .min(kMaxRestoredBiasSigmaDps)
+                                 .matrix();
+  }
+  restore(widened, with_heading);
 }
 
 void Estimator::set_motion_hint(MotionHint hint) {

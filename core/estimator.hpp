@@ -57,6 +57,10 @@ class Estimator {
   // `with_heading`: also the heading saved with it (a vehicle that was not moved meanwhile).
   // Throws std::invalid_argument, restoring nothing, for a state with non-finite or absurd values.
   void restore(const LearnedState& state, bool with_heading = true);
+  // The same for a state saved before the daemon went down (the state file): the bias's sigma
+  // widened by restart_bias_sigma_dps for what the time down moved. restore() alone is for a
+  // state handed over while running (a configuration reload).
+  void restore_after_restart(const LearnedState& state, bool with_heading = true);
 
   void set_motion_hint(MotionHint hint);
   // Restores a bias with its sigma (after a restart): no calibration stop needed.

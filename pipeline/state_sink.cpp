@@ -43,7 +43,7 @@ void StateSink::finish(const core::Estimator& estimator, const core::SampleSourc
 void restore_state(core::Estimator& estimator, const std::string& path, bool with_heading) {
   try {
     const app::SavedState saved = app::load_state(path);
-    estimator.restore(saved, with_heading);
+    estimator.restore_after_restart(saved, with_heading);
     std::string saved_at;
     if (std::isfinite(saved.temp_c)) {
       char text[96];

@@ -173,12 +173,15 @@ void read_auto(const TableReader& r, core::AutoSettings& a) {
           a.recover_after_s = r.number(node, key, 0.0, 86400.0, false);
         else if (name == "zero_rate_sigma_dps")
           a.zero_rate_sigma_dps = r.number(node, key, 0.0, 100.0, true);
+        else if (name == "restart_bias_sigma_dps")
+          a.restart_bias_sigma_dps = r.number(node, key, 0.0, 10.0, false);
         else
           return false;
         return true;
       },
       "min_segment_s, k_range, k_mean, k_mean_pooled, arw_dps_rt_hz, bias_walk_dps_rt_s, block_s, "
-      "scale_factor_sigma, calibrate_sigma, retract_before_creep, recover_after_s, zero_rate_sigma_dps");
+      "scale_factor_sigma, calibrate_sigma, retract_before_creep, recover_after_s, zero_rate_sigma_dps, "
+      "restart_bias_sigma_dps");
 }
 
 void read_estimator(const TableReader& r, core::EstimatorSettings& e) {

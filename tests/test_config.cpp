@@ -61,6 +61,7 @@ calibrate_sigma = false
 retract_before_creep = false
 recover_after_s = 30
 zero_rate_sigma_dps = 20
+restart_bias_sigma_dps = 0.05
 [estimator.temperature]
 enabled = false
 reference_c = 30
@@ -85,6 +86,7 @@ unmodelled_dps_per_c = 0.01
   EXPECT_FALSE(a.retract_before_creep);
   EXPECT_DOUBLE_EQ(a.recover_after_s, 30.0);
   EXPECT_DOUBLE_EQ(a.zero_rate_sigma_dps, 20.0);
+  EXPECT_DOUBLE_EQ(a.restart_bias_sigma_dps, 0.05);
   EXPECT_FALSE(a.use_temperature);
   EXPECT_DOUBLE_EQ(a.temperature.reference_c, 30.0);
   EXPECT_DOUBLE_EQ(a.temperature.half_life_s, 7200.0);
@@ -96,6 +98,7 @@ unmodelled_dps_per_c = 0.01
             std::string::npos);
   EXPECT_NE(error_of("[estimator.auto]\nscale_factor_sigma = 2\n").find("allowed [0, 0.5]"), std::string::npos);
   EXPECT_NE(error_of("[estimator.auto]\nzero_rate_sigma_dps = 0\n").find("allowed (0, 100]"), std::string::npos);
+  EXPECT_NE(error_of("[estimator.auto]\nrestart_bias_sigma_dps = 11\n").find("allowed [0, 10]"), std::string::npos);
 }
 
 TEST(Config, EmptyFileKeepsDefaults) {
