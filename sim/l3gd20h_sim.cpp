@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <stdexcept>
 #include <thread>
 
 #include "hw/l3gd20h_registers.hpp"
@@ -13,10 +14,17 @@ using namespace l3gd20h;
 
 namespace {
 constexpr std::int64_t kTransactionOverheadNs = 50000;  // start, address, stop and host overhead
+
+// The output rate divides by 1 + rate_error: at -1 or below no sample ever comes.
+const L3gd20hSimSettings& checked(const L3gd20hSimSettings& settings) {
+  if (!(std::abs(settings.rate_error) < 1.0))
+    throw std::invalid_argument("simulated L3GD20H: rate_error must lie within -1..1 (exclusive)");
+  return settings;
+}
 }  // namespace
 
 L3gd20hSimulator::L3gd20hSimulator(const L3gd20hSimSettings& settings, const std::string& scenario, std::uint64_t seed)
-    : settings_(settings) {
+    : settings_(checked(settings)) {
   auto built = build_scenario(scenario, seed, 0.0);
   if (!built) throw std::invalid_argument("unknown scenario '" + scenario + "'");
   // The chip quantises per its full scale, so the scenario's own quantisation is switched off,
@@ -31,7 +39,7 @@ L3gd20hSimulator::L3gd20hSimulator(const L3gd20hSimSettings& settings, const std
 
 L3gd20hSimulator::L3gd20hSimulator(const L3gd20hSimSettings& settings,
                                    std::function<RawSample(std::uint64_t)> generator)
-    : settings_(settings), generator_(std::move(generator)) {
+    : settings_(checked(settings)), generator_(std::move(generator)) {
   reset_registers();
 }
 

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "hw/l3gd20h.hpp"
@@ -74,6 +75,18 @@ TEST(L3gd20h, WrongChipIsRefusedByName) {
   } catch (const DriverError& error) {
     EXPECT_NE(std::string(error.what()).find("WHO_AM_I is 0xD4, not 0xD7"), std::string::npos) << error.what();
   }
+}
+
+TEST(L3gd20hSimulator, ARateErrorThatStopsTheChipIsRefused) {
+  for (const double error : {-1.0, -2.0, 1.0, std::nan("")}) {
+    L3gd20hSimSettings settings;
+    settings.rate_error = error;
+    EXPECT_THROW(L3gd20hSimulator(settings, counter), std::invalid_argument) << error;
+    EXPECT_THROW(L3gd20hSimulator(settings, "still", 1), std::invalid_argument) << error;
+  }
+  L3gd20hSimSettings settings;
+  settings.rate_error = -0.15;  // the datasheet's ODR tolerance
+  EXPECT_NO_THROW(L3gd20hSimulator(settings, "still", 1));
 }
 
 TEST(L3gd20h, DecodesSignScaleAndOrderForEachFullScale) {
