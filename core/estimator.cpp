@@ -261,6 +261,7 @@ void Estimator::restore(const LearnedState& state, bool with_heading) {
 
 void Estimator::restore_after_restart(const LearnedState& state, bool with_heading) {
   // The sigma learned while running says nothing of what the time down moved (auto only).
+  // Checked before the widening: its cap must not let a refused sigma through.
   if (const auto problem = implausible(state)) throw std::invalid_argument("state refused: " + *problem);
   LearnedState widened = state;
   if (method() == Method::Auto) {

@@ -45,7 +45,7 @@ void restore_state(core::Estimator& estimator, const std::string& path, bool wit
     const app::SavedState saved = app::load_state(path);
     estimator.restore_after_restart(saved, with_heading);
     std::string saved_at;
-    if (std::isfinite(saved.temp_c)) {
+    if (std::isfinite(saved.temp_c) && estimator.method() == core::Method::Auto) {  // the paper's carry nothing
       char text[96];
       std::snprintf(text, sizeof text, " (saved at %.1f degC: carried to the temperature read at start)", saved.temp_c);
       saved_at = text;
