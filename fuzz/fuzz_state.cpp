@@ -1,6 +1,8 @@
 // libFuzzer target: the state file parser on arbitrary bytes. Any input ends in a StateError or
 // a state that passes the estimator's own check, restores without throwing, and leaves the
 // estimator's output finite (the oracle of issue 15: nothing absurd gets in through a restart).
+// A mutated file almost never keeps a valid checksum, so three inputs in four (by their size)
+// are resealed first: without it the fields behind the checksum were hardly ever reached.
 #include <cmath>
 #include <string>
 
@@ -8,7 +10,8 @@
 #include "io/state_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const unsigned char* data, std::size_t size) {
-  const std::string text(reinterpret_cast<const char*>(data), size);
+  std::string text(reinterpret_cast<const char*>(data), size);
+  if (size % 4 != 0) text = headingd::app::seal_state(text.substr(0, text.rfind("checksum=")));
   headingd::app::SavedState state;
   try {
     state = headingd::app::parse_state(text, "fuzz.state");

@@ -18,6 +18,7 @@
 #include <sstream>
 #include <vector>
 
+#include "core/estimator.hpp"
 #include "core/scale_factor.hpp"
 
 namespace headingd::app {
@@ -78,10 +79,13 @@ std::string format_state(const SavedState& s) {
                      t.rhs(0), t.rhs(1), t.rhs(2), t.yy, t.weight})
          << "\n";
   }
-  const std::string text = body.str();
+  return seal_state(body.str());
+}
+
+std::string seal_state(const std::string& body) {
   char line[48];
-  std::snprintf(line, sizeof line, "checksum=%016llx\n", static_cast<unsigned long long>(checksum(text)));
-  return text + line;
+  std::snprintf(line, sizeof line, "checksum=%016llx\n", static_cast<unsigned long long>(checksum(body)));
+  return body + line;
 }
 
 SavedState parse_state(const std::string& text, const std::string& name) {
@@ -173,6 +177,9 @@ SavedState parse_state(const std::string& text, const std::string& name) {
     sums.yy = t[10];
     sums.weight = t[11];
   }
+  // Whatever the estimator would refuse to restore (a still noise of 1e5 dps, a model's sums
+  // of inf) is refused here, naming the file, as the checks above do field by field.
+  if (const auto problem = core::implausible(s)) fail(*problem);
   return s;
 }
 

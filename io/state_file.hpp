@@ -36,6 +36,9 @@ void save_state(const std::string& path, const SavedState& state, int crash_afte
 // Throws StateError naming the file and what is wrong with it.
 SavedState load_state(const std::string& path);
 std::string format_state(const SavedState& state);
+// A state file's body (everything before its checksum line) with that line appended: what
+// format_state ends with, for tools and the fuzzer that build or mutate a body by hand.
+std::string seal_state(const std::string& body);
 SavedState parse_state(const std::string& text, const std::string& name);
 
 }  // namespace headingd::app

@@ -157,6 +157,37 @@ TEST(StateFile, ATemperaturePointCountThatIsNoCountIsRefusedByName) {
   }
 }
 
+// Found by the fuzzer once it reseals what it mutates: the parser took a still noise of 6e5
+// dps that the estimator then refused to restore. Whatever restore refuses, parsing refuses,
+// naming the file and what.
+TEST(StateFile, WhatTheEstimatorWouldRefuseIsRefusedWhenRead) {
+  const std::string good = format_state(sample_state(-0.4));
+  EXPECT_EQ(seal_state(good.substr(0, good.rfind("checksum="))), resigned(good)) << "one checksum, two writers";
+  struct Edit {
+    const char* key;
+    const char* value;
+    const char* why;
+  };
+  for (const Edit& edit : {Edit{"sigma_still_dps", "0.1 0.1 592810.13", "still noise not within 0..100 dps"},
+                           Edit{"arw_dps_rt_hz", "0.01 -0.01 0.01", "noise density not within"},
+                           Edit{"temperature_model_x", "3 1 2 3 4 5 6 7 8 inf 0.1 3", "temperature model not finite"},
+                           Edit{"temperature_model_y", "3 1 2 3 4 5 6 7 8 9 0.1 -3", "temperature model not finite"}}) {
+    const auto at = good.find(std::string("\n") + edit.key + "=");
+    ASSERT_NE(at, std::string::npos) << edit.key << " in " << good;
+    const auto end = good.find('\n', at + 1);
+    std::string text = good;
+    text.replace(at + 1, end - at - 1, std::string(edit.key) + "=" + edit.value);
+    try {
+      parse_state(seal_state(text.substr(0, text.rfind("checksum="))), "edited.state");
+      ADD_FAILURE() << "accepted " << edit.key << "=" << edit.value;
+    } catch (const StateError& error) {
+      const std::string what = error.what();
+      EXPECT_NE(what.find(edit.why), std::string::npos) << what;
+      EXPECT_NE(what.find("edited.state"), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(StateFile, UnknownTemperatureRoundTrips) {
   TempDir dir;
   const auto path = dir.path("state");
