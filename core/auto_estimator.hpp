@@ -238,7 +238,8 @@ class AutoEstimator {
     double temp_c = 0.0;
     Vec3 mean_dps = Vec3::Zero();
     Vec3 r_dps2 = Vec3::Zero();
-    double last_still_before_t_s = 0.0;  // last_still_t_s_ before it
+    double last_still_before_t_s = 0.0;       // last_still_t_s_ before it
+    double still_run_start_before_t_s = 0.0;  // still_run_start_t_s_ before it
   };
   // `weight`: the probability that it was a creep after all (1: a hard retraction).
   void retract_last_accepted(double weight);
@@ -385,6 +386,8 @@ class AutoEstimator {
   std::uint64_t retracted_ = 0;
   std::uint64_t recoveries_ = 0;
   double last_still_t_s_ = std::numeric_limits<double>::quiet_NaN();  // NaN until a segment is accepted
+  // Where the run of back-to-back accepted segments that ends at last_still_t_s_ began.
+  double still_run_start_t_s_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace headingd::core

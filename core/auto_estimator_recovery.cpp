@@ -295,6 +295,17 @@ void AutoEstimator::recover_bias() {
   const double trusted_until_s = bias_from_startup_only_          ? startup_start_t_s_
                                  : std::isfinite(last_still_t_s_) ? last_still_t_s_
                                                                   : run_start_s;
+  // Nor is the run of accepted segments that ended there an alibi: they matched the old level,
+  // and if the restart is right that level was wrong, so they may have been slow motion held as
+  // still, as this run would have been had the restart gone the other way (random world 133: a
+  // 0.05 dps creep matched a stale bias for 85 s, and the stop after it restarted the bias 10.2
+  // deg off, under a sigma of 0.66 before this and 5.1 now). Counted only as long as this run:
+  // one longer than the run a restart rests on is a stop by the restart's own standard. The
+  // variance only: which story is true only a later stop can tell.
+  const double matched_run_s =
+      !bias_from_startup_only_ && std::isfinite(last_still_t_s_) && std::isfinite(still_run_start_t_s_)
+          ? std::min(std::max(0.0, last_still_t_s_ - still_run_start_t_s_), quiet_.duration_s)
+          : 0.0;
   const double exposed_s = std::max(0.0, run_start_s - trusted_until_s);
   replaced_.pending = recovery_revocable_;
   replaced_.lean = recovery_ambiguous_;
@@ -329,6 +340,7 @@ void AutoEstimator::recover_bias() {
     // the level is one a creep could have (a faster one held for minutes is a turn).
     const double change_dps = mean[a] - from.bias_dps;
     const double exposed_deg = change_dps * exposed_s;
+    const double matched_deg = change_dps * matched_run_s;
     const bool creep_sized = std::abs(change_dps) <= kFastestCreepDps;
     const double run_deg = recovery_ambiguous_ && creep_sized ? change_dps * quiet_.duration_s : 0.0;
     // A bias resting on the start-up alone replaced by a level no creep reaches: the start-up
@@ -340,8 +352,9 @@ void AutoEstimator::recover_bias() {
     if (bias_from_startup_only_ && !creep_sized) corrected.angle_deg -= exposed_deg;
     const double returned = axis == 2 && returned_deg ? *returned_deg : 0.0;
     if (axis == 2) yaw_correction_deg = corrected.angle_deg - from.angle_deg;
-    filters_[axis].restart_bias(corrected, mean[a], r[a],
-                                exposed_deg * exposed_deg + run_deg * run_deg + returned * returned);
+    filters_[axis].restart_bias(
+        corrected, mean[a], r[a],
+        (exposed_deg + matched_deg) * (exposed_deg + matched_deg) + run_deg * run_deg + returned * returned);
     replaced_.as_restarted[axis] = filters_[axis].state();
   }
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * quiet_.attitude_at_start);
@@ -351,6 +364,7 @@ void AutoEstimator::recover_bias() {
   models_.relearn_after_recovery(quiet_.sigma_dps);
   if (bias_from_startup_only_) models_.restart_noise_if_inflated(segment_.stats, segment_.blocks, segment_.duration_s);
   last_still_t_s_ = segment_.start_t_s + segment_.duration_s;
+  still_run_start_t_s_ = run_start_s;
   if (std::isfinite(previous_temp_c_)) temp_at_still_c_ = previous_temp_c_;  // the run was the stop
   bias_measured_at(previous_temp_c_);
   previous_.usable = false;

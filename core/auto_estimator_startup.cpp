@@ -116,6 +116,7 @@ SegmentVerdict AutoEstimator::close_startup() {
   }
   ++accepted_;
   last_still_t_s_ = segment_.start_t_s + duration_s;
+  still_run_start_t_s_ = segment_.start_t_s;
   history_.measured(last_still_t_s_, filters_[2].bias_dps(), filters_[2].bias_variance(), filters_[2].angle_deg());
   bias_confirmed_ = false;
   motion_since_basis_ = false;

@@ -26,6 +26,9 @@ constexpr std::size_t kVerdictRecords = 1024;  // 0.995^1024: under 1 % of a ver
 // noise and what the bias drifts by between them (a consumer MEMS gyro's bias instability, as
 // the restart bound's floor in auto_estimator_recovery.cpp) of the run's level.
 constexpr double kLevelDriftFloorDps = 0.005;
+// Segments tile the time; between two accepted ones a rejected or cut segment leaves a gap of at
+// least its own length (a second or more), none leaves a sample's rounding.
+constexpr double kSameStillRunGapS = 0.5;
 // A still segment's block means scatter about one level; where motion starts or stops inside a
 // segment, they move from one level to another, and the segment's mean lies anywhere between
 // (random world 108: the last seconds of a 0.2 dps curve and the first of a stop, accepted
@@ -299,6 +302,10 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   if (replaced_.quiet_run_over) replaced_.pending = false;
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
   bias_measured_at(segment_.temp_count > 0 ? temp_at_still_c_ : previous_temp_c_);
+  last_accepted_.still_run_start_before_t_s = still_run_start_t_s_;
+  // Back to back with the last accepted segment: the same run goes on.
+  if (!(std::isfinite(last_still_t_s_) && segment_.start_t_s - last_still_t_s_ <= kSameStillRunGapS))
+    still_run_start_t_s_ = segment_.start_t_s;
   last_still_t_s_ = end_t_s;
 }
 
@@ -326,6 +333,7 @@ void AutoEstimator::retract_last_accepted(double weight) {
   ++rejected_;
   ++retracted_;
   last_still_t_s_ = last_accepted_.last_still_before_t_s;
+  still_run_start_t_s_ = last_accepted_.still_run_start_before_t_s;
 }
 
 }  // namespace headingd::core

@@ -416,6 +416,32 @@ TEST(AutoEstimator, AStopHeldThreeTimesTheWaitRestartsAConfirmedBiasWhateverItsL
   EXPECT_LT(std::abs(rig.error()), 1.0);
 }
 
+TEST(AutoEstimator, ARestartCountsTheRunOfSegmentsThatMatchedTheOldLevelInTheHeadingSigma) {
+  // A confirmed bias; the true bias moves by 0.05 dps during a drive; a 0.05 dps creep the other
+  // way then reads as the old bias and is taken for still for 60 s (its 3 deg held out of the
+  // heading); the stop after it is rejected and, held three times the wait, restarts the bias.
+  // The restart says the old level was wrong, so the run that matched it may have been motion:
+  // the heading sigma covers its 3 deg (random world 133's story: 9.5 deg off under 0.66).
+  Rig rig;
+  rig.run(60.0, 0.0);
+  rig.run(3.0, 30.0, 2.0);
+  rig.run(60.0, 0.0);  // confirmed
+  rig.run(3.0, 30.0, 2.0);
+  rig.shift_bias(0.05);
+  rig.run(3.0, -30.0, 2.0);
+  rig.reset_counts();
+  rig.run(60.0, -0.05);  // reads as the old bias
+  EXPECT_GE(rig.accepted(), 15) << "the creep matched the stale bias";
+  rig.run(300.0, 0.0);
+  const AutoEstimator& automatic = *rig.estimator().automatic();
+  ASSERT_EQ(automatic.bias_recoveries(), 1u);
+  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.40, 0.01);
+  const double error = rig.error(), sigma = rig.estimator().last().heading_sigma_deg;
+  std::printf("after the restart: error %.2f deg, sigma %.2f deg\n", error, sigma);
+  EXPECT_GT(std::abs(error), 2.0) << "the creep's angle is in the heading (no estimate changes)";
+  EXPECT_LE(std::abs(error), 2.0 * sigma) << "and in its sigma";
+}
+
 TEST(AutoEstimator, ACreepDoesNotVouchForItselfAsABiasGoneWrong) {
   // A short history (a 3 s start-up, a 6 s stop after a turn), then a 0.15 dps creep for 120 s:
   // its own 40 rejected segments make most verdicts so far rejections, the sign of a bias
