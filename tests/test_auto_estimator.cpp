@@ -442,6 +442,24 @@ TEST(AutoEstimator, ARestartCountsTheRunOfSegmentsThatMatchedTheOldLevelInTheHea
   EXPECT_LE(std::abs(error), 2.0 * sigma) << "and in its sigma";
 }
 
+TEST(AutoEstimator, ARestartOfAConfirmedBiasKeepsTheRunsAngleInTheHeadingSigma) {
+  // A confirmed bias, then a 0.05 dps creep held quiet for three times the wait: a stop by then,
+  // whatever its level, so the bias restarts onto the creep and the run's 14 deg leave the
+  // heading. Likelier a stop than not, but not certainly: the sigma covers the run's angle.
+  Rig rig;
+  rig.run(60.0, 0.0);
+  rig.run(3.0, 30.0, 2.0);
+  rig.run(60.0, 0.0);  // confirmed
+  rig.run(3.0, -30.0, 2.0);
+  rig.run(285.0, 0.05);
+  const AutoEstimator& automatic = *rig.estimator().automatic();
+  ASSERT_EQ(automatic.bias_recoveries(), 1u);
+  const double error = rig.error(), sigma = rig.estimator().last().heading_sigma_deg;
+  std::printf("a creep restarted a confirmed bias: error %.2f deg, sigma %.2f deg\n", error, sigma);
+  EXPECT_GT(std::abs(error), 10.0) << "the creep's angle went out of the heading (no estimate changes)";
+  EXPECT_LE(std::abs(error), 2.0 * sigma) << "but not out of its sigma";
+}
+
 TEST(AutoEstimator, ACreepDoesNotVouchForItselfAsABiasGoneWrong) {
   // A short history (a 3 s start-up, a 6 s stop after a turn), then a 0.15 dps creep for 120 s:
   // its own 40 rejected segments make most verdicts so far rejections, the sign of a bias
