@@ -299,9 +299,9 @@ void AutoEstimator::recover_bias() {
   // and if the restart is right that level was wrong, so they may have been slow motion held as
   // still, as this run would have been had the restart gone the other way (random world 133: a
   // 0.05 dps creep matched a stale bias for 85 s, and the stop after it restarted the bias 10.2
-  // deg off, under a sigma of 0.66 before this and 5.1 now). Counted only as long as this run:
-  // one longer than the run a restart rests on is a stop by the restart's own standard. The
-  // variance only: which story is true only a later stop can tell.
+  // deg off, under a sigma of 0.66; 7.2 with this and the run's angle below). Counted only as
+  // long as this run: one longer than the run a restart rests on is a stop by the restart's own
+  // standard. The variance only: which story is true only a later stop can tell.
   const double matched_run_s =
       !bias_from_startup_only_ && std::isfinite(last_still_t_s_) && std::isfinite(still_run_start_t_s_)
           ? std::min(std::max(0.0, last_still_t_s_ - still_run_start_t_s_), quiet_.duration_s)
