@@ -77,6 +77,18 @@ class Rig {
 
 }  // namespace
 
+namespace {
+// After a restart that took a creep's angle out of the heading (or kept one in it): the error
+// is at least `at_least_deg` (no estimate changed to hide it) and within 2 sigma (the variance
+// says so).
+void expect_angle_in_heading_and_sigma(Rig& rig, double at_least_deg, const char* what) {
+  const double error = rig.error(), sigma = rig.estimator().last().heading_sigma_deg;
+  std::printf("%s: error %.2f deg, sigma %.2f deg\n", what, error, sigma);
+  EXPECT_GT(std::abs(error), at_least_deg) << what << ": the creep's angle is in the heading";
+  EXPECT_LE(std::abs(error), 2.0 * sigma) << what << ": and in its sigma";
+}
+}  // namespace
+
 TEST(AutoEstimator, IsTheDefaultMethod) { EXPECT_EQ(Estimator().method(), Method::Auto); }
 
 TEST(AutoEstimator, HoldsHeadingWhileStill) {
@@ -422,6 +434,8 @@ TEST(AutoEstimator, ARestartCountsTheRunOfSegmentsThatMatchedTheOldLevelInTheHea
   // heading); the stop after it is rejected and, held three times the wait, restarts the bias.
   // The restart says the old level was wrong, so the run that matched it may have been motion:
   // the heading sigma covers its 3 deg (random world 133's story: 9.5 deg off under 0.66).
+  // Since the restart keeps the quiet run's own angle for a confirmed bias too (the next test),
+  // that term covers this case as well: the matched run moves the sigma only 13.9 -> 14.2 deg here.
   Rig rig;
   rig.run(60.0, 0.0);
   rig.run(3.0, 30.0, 2.0);
@@ -436,10 +450,7 @@ TEST(AutoEstimator, ARestartCountsTheRunOfSegmentsThatMatchedTheOldLevelInTheHea
   const AutoEstimator& automatic = *rig.estimator().automatic();
   ASSERT_EQ(automatic.bias_recoveries(), 1u);
   EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.40, 0.01);
-  const double error = rig.error(), sigma = rig.estimator().last().heading_sigma_deg;
-  std::printf("after the restart: error %.2f deg, sigma %.2f deg\n", error, sigma);
-  EXPECT_GT(std::abs(error), 2.0) << "the creep's angle is in the heading (no estimate changes)";
-  EXPECT_LE(std::abs(error), 2.0 * sigma) << "and in its sigma";
+  expect_angle_in_heading_and_sigma(rig, 2.0, "after the restart");
 }
 
 TEST(AutoEstimator, ARestartOfAConfirmedBiasKeepsTheRunsAngleInTheHeadingSigma) {
@@ -454,10 +465,7 @@ TEST(AutoEstimator, ARestartOfAConfirmedBiasKeepsTheRunsAngleInTheHeadingSigma) 
   rig.run(285.0, 0.05);
   const AutoEstimator& automatic = *rig.estimator().automatic();
   ASSERT_EQ(automatic.bias_recoveries(), 1u);
-  const double error = rig.error(), sigma = rig.estimator().last().heading_sigma_deg;
-  std::printf("a creep restarted a confirmed bias: error %.2f deg, sigma %.2f deg\n", error, sigma);
-  EXPECT_GT(std::abs(error), 10.0) << "the creep's angle went out of the heading (no estimate changes)";
-  EXPECT_LE(std::abs(error), 2.0 * sigma) << "but not out of its sigma";
+  expect_angle_in_heading_and_sigma(rig, 10.0, "a creep restarted a confirmed bias");
 }
 
 TEST(AutoEstimator, ACreepDoesNotVouchForItselfAsABiasGoneWrong) {
