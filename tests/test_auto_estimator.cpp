@@ -435,7 +435,9 @@ TEST(AutoEstimator, ARestartCountsTheRunOfSegmentsThatMatchedTheOldLevelInTheHea
   // The restart says the old level was wrong, so the run that matched it may have been motion:
   // the heading sigma covers its 3 deg (random world 133's story: 9.5 deg off under 0.66).
   // Since the restart keeps the quiet run's own angle for a confirmed bias too (the next test),
-  // that term covers this case as well: the matched run moves the sigma only 13.9 -> 14.2 deg here.
+  // that term covers this short case as well (the matched run moves the sigma 13.9 -> 14.2 deg
+  // here), but not world 133 itself: without the matched run, 28.5 % of its outputs lie within
+  // 2 sigma instead of 97.5 % (docs/random-worlds.md, 2026-12-05).
   Rig rig;
   rig.run(60.0, 0.0);
   rig.run(3.0, 30.0, 2.0);
