@@ -1,5 +1,6 @@
 #include "app/summary.hpp"
 
+#include <array>
 #include <cstdio>
 
 namespace headingd::app {
@@ -83,8 +84,15 @@ void print_summary(const Summary& summary, const core::SampleSource& source, con
   }
   if (summary.recording) std::fprintf(stderr, "  recording    %s\n", summary.recording->c_str());
   const double wall_s = summary.wall_s;
-  std::fprintf(stderr, "  speed        %.2f s wall, %.2f million samples/s, %.0fx real time\n", wall_s,
-               wall_s > 0 ? samples / wall_s / 1e6 : 0.0, wall_s > 0 ? span_s / wall_s : 0.0);
+  // A paced replay or a live run does a few thousand samples a second: "0.00 million" said nothing.
+  const double per_s = wall_s > 0 ? samples / wall_s : 0.0;
+  std::array<char, 48> rate{};
+  if (per_s >= 1e6)
+    std::snprintf(rate.data(), rate.size(), "%.2f million samples/s", per_s / 1e6);
+  else
+    std::snprintf(rate.data(), rate.size(), "%.0f samples/s", per_s);
+  std::fprintf(stderr, "  speed        %.2f s wall, %s, %.0fx real time\n", wall_s, rate.data(),
+               wall_s > 0 ? span_s / wall_s : 0.0);
 }
 
 }  // namespace headingd::app
