@@ -1,7 +1,11 @@
 #include "tools/score_command.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
+#include <filesystem>
+#include <string>
 
 #include "io/csv_out.hpp"
 #include "io/input_error.hpp"
@@ -15,8 +19,8 @@ namespace headingd::app {
 
 namespace {
 
-void print_row(const std::string& label, const core::HeadingMetrics& m) {
-  std::printf("%-12s %10.2f %10.2f %10.2f %12.3f %8.2f\n", label.c_str(), m.max_abs_deg(), m.final_abs_deg(),
+void print_row(int width, const std::string& label, const core::HeadingMetrics& m) {
+  std::printf("%-*s %10.2f %10.2f %10.2f %12.3f %8.2f\n", width, label.c_str(), m.max_abs_deg(), m.final_abs_deg(),
               m.rms_deg(), m.drift_deg_per_h(), m.hours());
 }
 
@@ -61,15 +65,20 @@ int run_score(const ScoreOptions& options) {
       return kExitCantCreate;
     }
   }
+  // Unlabelled, the row would start with blanks and the floor's rows read " floor".
+  const std::string label =
+      options.label.empty() ? std::filesystem::path(options.estimates).filename().string() : options.label;
+  // A label longer than the column pushes the figures right: the column widens to the longest.
+  const int width = static_cast<int>(std::max<std::size_t>(12, label.size() + (options.recording ? 7 : 0)));
   if (options.header) {
-    std::printf("%-12s %10s %10s %10s %12s %8s\n", "method", "max|E| deg", "final|E|", "RMS deg", "drift deg/h",
+    std::printf("%-*s %10s %10s %10s %12s %8s\n", width, "method", "max|E| deg", "final|E|", "RMS deg", "drift deg/h",
                 "hours");
   }
-  print_row(options.label, metrics);
+  print_row(width, label, metrics);
   if (options.recording) {
-    print_row(options.label + " floor", score_heading(floor, truth));
+    print_row(width, label + " floor", score_heading(floor, truth));
     // The floor as the reference: its error column is floor - estimate, the estimate's excess.
-    print_row(options.label + " excess", score_heading(estimate, floor));
+    print_row(width, label + " excess", score_heading(estimate, floor));
   }
   return finish_standard_output();
 }
