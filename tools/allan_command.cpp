@@ -36,6 +36,8 @@ struct Recording {
   double period_s = 0.0;
   double sigma_still_sum[3] = {0, 0, 0};  // per-sample variance summed over 3 s blocks
   std::size_t sigma_blocks = 0;
+  std::size_t samples = 0;        // every sample read
+  std::size_t samples_still = 0;  // of which in segments the auto estimator accepted as still
 };
 
 // Keeps every sample, or with still_only only those in segments the auto estimator accepts
@@ -46,17 +48,22 @@ class Collector final : public pipeline::Sink {
   void add(const core::Sample& s, const core::Estimate& estimate, const core::Estimator& /*estimator*/) override {
     if (std::isfinite(previous_t_) && periods.size() < 100000) periods.push_back(s.t_s - previous_t_);
     previous_t_ = s.t_s;
-    if (!still_only_) {
-      keep(s);
-      return;
-    }
+    ++rec_.samples;
+    // The samples before the one that closes a segment are that segment's.
     if (estimate.closed.closed) {
-      if (estimate.closed.accepted && estimate.closed.index == pending_segment_)
+      const bool still = estimate.closed.accepted && estimate.closed.index == pending_segment_;
+      if (still) rec_.samples_still += pending_count_;
+      if (still && still_only_)
         for (const auto& p : pending_) keep(p);
       pending_.clear();
+      pending_count_ = 0;
     }
     pending_segment_ = estimate.segment_index;
-    pending_.push_back(s);
+    ++pending_count_;
+    if (still_only_)
+      pending_.push_back(s);
+    else
+      keep(s);
   }
   std::vector<double> periods;
 
@@ -69,6 +76,7 @@ class Collector final : public pipeline::Sink {
   std::vector<core::Sample> pending_;
   double previous_t_ = NAN;
   std::uint64_t pending_segment_ = 0;
+  std::size_t pending_count_ = 0;
 };
 
 // Reads the recording through the pipeline; throws what stopped it (InputError at a bad line).
@@ -149,6 +157,13 @@ int run_allan(const AllanOptions& options) {
         rec = read_recording(source, options.still_only);
       }))
     return code;
+  // A curve of a recording that mostly moves measures the motion, not the sensor: say so.
+  if (!options.still_only && rec.samples > 0 && 10 * (rec.samples - rec.samples_still) > rec.samples)
+    std::fprintf(stderr,
+                 "headingd: %s: %.0f %% of the samples lie outside the segments the auto estimator took for "
+                 "still; motion shapes the curve below (--still-only keeps the still ones)\n",
+                 options.input.c_str(),
+                 100.0 * static_cast<double>(rec.samples - rec.samples_still) / static_cast<double>(rec.samples));
   const std::size_t n = rec.rate_dps[0].size();
   const auto clusters = core::log_spaced_clusters(n);
   if (clusters.size() < 3 || !(rec.period_s > 0.0)) {
@@ -180,8 +195,10 @@ int run_allan(const AllanOptions& options) {
     const auto& t = terms[static_cast<std::size_t>(a)];
     std::printf(
         "%s: angle random walk %.5f dps/sqrt(Hz) (%.3f deg/sqrt(h)); bias instability %.5f dps (%.2f deg/h) "
-        "at tau %.0f s; rate random walk ",
-        kAxisNames[a], t.arw, t.arw * 60.0, t.bias_instability, t.bias_instability * 3600.0, t.tau_at_minimum_s);
+        "at tau %.*f s; rate random walk ",
+        kAxisNames[a], t.arw, t.arw * 60.0, t.bias_instability, t.bias_instability * 3600.0,
+        // A minimum at milliseconds (motion in the recording) printed as "tau 0 s" before.
+        t.tau_at_minimum_s < 1.0 ? 4 : (t.tau_at_minimum_s < 10.0 ? 2 : 0), t.tau_at_minimum_s);
     if (t.rate_random_walk)
       std::printf("%.3g dps/sqrt(s)\n", *t.rate_random_walk);
     else

@@ -13,6 +13,18 @@ sed -n '/^\[estimator\]/,$p' "$dir/out.txt" >"$dir/fragment.toml"
 [ "$(head -c 4 "$dir/allan.png" | od -An -c | tr -d ' ')" = "211PNG" ] || { echo "no PNG written"; exit 1; }
 echo "ok: noise terms, config fragment accepted, PNG plot written"
 
+# A recording that mostly moves: the curve is the motion's, and allan says so (not on the still one
+# above, nor with --still-only).
+"$headingd" allan "$dir/imu.csv" >/dev/null 2>"$dir/err.txt"
+[ ! -s "$dir/err.txt" ] || { cat "$dir/err.txt"; echo "FAIL: a still recording drew a warning"; exit 1; }
+"$headingd" simulate --scenario agv --seed 2 --hours 0.1 --output-dir "$dir/agv" 2>/dev/null
+"$headingd" allan "$dir/agv/imu.csv" --axis z >/dev/null 2>"$dir/err.txt"
+grep -q "% of the samples lie outside the segments the auto estimator took for still; motion shapes the curve" \
+  "$dir/err.txt" || { cat "$dir/err.txt"; echo "FAIL: no warning on a moving recording"; exit 1; }
+"$headingd" allan "$dir/agv/imu.csv" --axis z --still-only >/dev/null 2>"$dir/err.txt"
+[ ! -s "$dir/err.txt" ] || { cat "$dir/err.txt"; echo "FAIL: --still-only drew a warning"; exit 1; }
+echo "ok: a moving recording's curve is called motion, a still one's and --still-only's are not"
+
 # Hostile names (issue 15, item 1): an input and a plot path that would close a gnuplot string and
 # run a command, and a link planted where a careless writer would put its temporary. Nothing runs,
 # nothing outside the named output changes, and the PNG lands exactly at the odd path.
