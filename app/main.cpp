@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
   auto* echo_cmd = cli.add_subcommand("echo", "Subscribe to headingd's topics and print one line per message");
   echo_cmd->add_option("topics", echo.topics, "orientation, imu, bias, status, command (default: the first four)");
   echo_cmd->add_flag("--json", echo.json, "One JSON object per line");
-  echo_cmd->add_option("--count", echo.count, "Exit after this many messages");
+  echo_cmd->add_option("--count", echo.count, "Exit after this many messages (exit 69 if --timeout comes first)");
   echo_cmd->add_option("--timeout", echo.timeout_s, "Exit after this many seconds");
   echo_cmd->add_flag("--reliable", echo.reliable, "Reliable orientation/imu reader (needs orientation_reliable)");
   echo_cmd->add_option("-c,--config", echo.config_path, "TOML configuration file (its [dds] section)");

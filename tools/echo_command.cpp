@@ -143,7 +143,16 @@ int run_echo(const EchoOptions& options) {
   }
   delete_participant(participant);  // stops the listeners before they go away
   listeners.clear();
-  return finish_standard_output();
+  const int code = finish_standard_output();
+  // A script waiting for N messages (a health check) must see that they did not come.
+  const std::uint64_t received = g_received.load();
+  if (code == kExitOk && options.count > 0 && received < options.count && !stop_requested()) {
+    std::fprintf(stderr, "headingd: echo: %llu of %llu messages within %g s\n",
+                 static_cast<unsigned long long>(received), static_cast<unsigned long long>(options.count),
+                 options.timeout_s);
+    return kExitUnavailable;
+  }
+  return code;
 }
 
 int run_command(const CommandOptions& options) {

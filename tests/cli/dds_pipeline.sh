@@ -36,6 +36,7 @@ sleep 4
 while [ $(($(date +%s) - replay_start)) -lt 23 ]; do sleep 0.2; done
 late_start=$(date +%s.%N)
 "$headingd" echo bias status --json -c "$dir/cfg.toml" --count 2 --timeout 6 >"$dir/late.out" 2>&1
+late_rc=$?
 wait "$replay" || fail "replay exited $?: $(cat "$dir/replay.err")"
 sleep 1
 kill -INT "${pids[0]}"; wait "${pids[0]}"
@@ -65,6 +66,7 @@ grep -q '"topic":"status"' "$dir/late.out" || fail "late subscriber got no Statu
 stamp=$(grep '"topic":"bias"' "$dir/late.out" | sed -n 's/.*"stamp":\([0-9.]*\).*/\1/p' | head -n 1)
 [ -n "$stamp" ] || fail "late subscriber got no GyroBias: $(cat "$dir/late.out")"
 awk -v s="$stamp" -v t="$late_start" 'BEGIN { exit !(s < t) }' || fail "late GyroBias stamped $stamp, after the subscriber started at $late_start"
+[ "$late_rc" -eq 0 ] || fail "late subscriber: echo --count 2 exited $late_rc: $(cat "$dir/late.out")"
 echo "ok: late subscriber got the latest GyroBias (stamped $stamp, before it started at $late_start)"
 
 # Commands: heading now 90 deg (the platform stands still), one accepted, two refused.
@@ -74,3 +76,10 @@ last_status=$(grep '"topic":"status"' "$dir/a.out" | tail -n 1)
 grep -q '"commands_accepted":1,"commands_rejected":2' <<<"$last_status" || fail "status counts: $last_status"
 grep -q "HeadingCommand refused" "$dir/replay.err" || fail "refusals not logged"
 echo "ok: set-heading moved the heading to $last_heading rad; NaN and stale commands refused and counted"
+
+# Nobody publishes any more: echo --count 1 --timeout 2 says so and exits 69 (a health check's answer).
+"$headingd" echo orientation -c "$dir/cfg.toml" --count 1 --timeout 2 >"$dir/none.out" 2>"$dir/none.err"
+none_rc=$?
+[ "$none_rc" -eq 69 ] && grep -q "echo: 0 of 1 messages within 2 s" "$dir/none.err" && [ ! -s "$dir/none.out" ] ||
+  fail "echo with nothing to hear: exit $none_rc, '$(cat "$dir/none.err")', $(wc -l <"$dir/none.out") lines"
+echo "ok: echo --count 1 with no publisher: exit 69 after its timeout, and says how many came"
