@@ -33,8 +33,8 @@ for trial in broad-01 broad-05 broad-08 broad-24 broad-26; do
       "c=$dir/est-c.csv" >"$dir/score.txt"
     awk -v trial="$trial" -v cut="$cut" '
       /no bias removal/ { raw = $NF }
-      /headingd auto/ { auto = $NF }
-      /headingd c/ { c = $NF }
+      /headingd auto/ { auto = $3 }  # the figure, before the share within 2 sigma
+      /headingd c/ { c = $3 }
       END { printf "%-10s %8s | %9s %9s %9s\n", trial, cut, raw, auto, c }' "$dir/score.txt"
   done
 done

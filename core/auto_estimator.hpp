@@ -150,6 +150,8 @@ class AutoEstimator {
   SegmentVerdict close_startup();
   // The start-up segment's block means scatter like motion, not like a still gyro's noise.
   bool startup_looks_moving() const;
+  // The start-up segment's level lies too far out for a zero-rate level (a steady turn).
+  bool startup_level_far_out() const;
   // Whether the segment's block means move with time beyond their noise (kRateChangeSigmas).
   bool rate_changed_within_segment() const;
   SegmentVerdict pass_moving_startup();

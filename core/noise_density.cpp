@@ -1,5 +1,7 @@
 #include "core/noise_density.hpp"
 
+#include <algorithm>
+
 namespace headingd::core {
 
 void BlockMeans::reset() {
@@ -10,11 +12,13 @@ void BlockMeans::reset() {
   mean_.setZero();
   m2_.setZero();
   index_weighted_.setZero();
+  largest_squared_level_ = 0.0;
 }
 
 void BlockMeans::close_block() {
   const Vec3 block_mean = sum_ / samples_;
   index_weighted_ += static_cast<double>(blocks_) * block_mean;
+  largest_squared_level_ = std::max(largest_squared_level_, block_mean.squaredNorm());
   ++blocks_;
   const Vec3 delta = block_mean - mean_;
   mean_ += delta / blocks_;

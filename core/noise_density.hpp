@@ -45,6 +45,8 @@ class BlockMeans {
   // (k - mean k)^2 over the blocks.
   Vec3 trend_per_block() const;
   double index_spread() const;
+  // The largest squared norm of a block mean (dps^2): how far out the segment's level went.
+  double largest_squared_level() const { return largest_squared_level_; }
 
  private:
   void close_block();
@@ -57,6 +59,7 @@ class BlockMeans {
   Vec3 mean_ = Vec3::Zero();
   Vec3 m2_ = Vec3::Zero();
   Vec3 index_weighted_ = Vec3::Zero();  // sum over blocks of k * block mean, k from 0
+  double largest_squared_level_ = 0.0;
 };
 
 class NoiseDensity {

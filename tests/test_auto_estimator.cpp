@@ -293,22 +293,24 @@ TEST(AutoEstimator, StillSegmentsAreNotTakenBack) {
 }
 
 TEST(AutoEstimator, StartUpWhileTurningRecoversTheBias) {
-  // No saved state and the platform turning at start: the start-up segment takes the turn rate
-  // for the bias, and every later stop fails the mean test against it. A long quiet period
-  // that agrees with itself is taken for a stop under a wrong bias, and a change no creep
-  // makes says the start-up was the turn: the heading since the start-up takes the new bias
-  // too, and the 50 deg turned while the start-up held still come back.
+  // No saved state and the platform turning at start, at a rate a zero-rate level could have:
+  // the start-up segment takes the turn rate for the bias, and every later stop fails the mean
+  // test against it. A long quiet period that agrees with itself is taken for a stop under a
+  // wrong bias, and a change no creep makes says the start-up was the turn: the heading since
+  // the start-up takes the new bias too, and the 40 deg turned while the start-up held still
+  // come back.
   const auto run_with = [](double recover_after_s) {
     EstimatorSettings settings;
     settings.automatic.recover_after_s = recover_after_s;
     Rig rig(settings);
-    rig.run(5.0, 10.0);  // 50 deg, the first 3 s of it held as a still start-up
+    rig.run(10.0, 4.0);  // 40 deg, taken for still
     rig.run(300.0, 0.0);
     return rig;
   };
   Rig stuck = run_with(0.0);
-  EXPECT_NEAR(stuck.estimator().last().bias_dps.z(), -0.45 + 10.0, 0.1) << "without recovery the turn stays";
+  EXPECT_NEAR(stuck.estimator().last().bias_dps.z(), -0.45 + 4.0, 0.1) << "without recovery the turn stays";
   Rig rig = run_with(90.0);
+  EXPECT_EQ(rig.estimator().automatic()->moving_startup_segments(), 0) << "a level a chip could have";
   EXPECT_EQ(rig.estimator().automatic()->bias_recoveries(), 1u);
   EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.01);
   const double error_at_300 = rig.error();
@@ -319,27 +321,44 @@ TEST(AutoEstimator, StartUpWhileTurningRecoversTheBias) {
   EXPECT_NEAR(rig.error(), error_at_300, 0.1) << "and the heading holds from then on";
 }
 
-TEST(AutoEstimator, AStartUpLevelFarFromAnyZeroRateLevelGivesWayAtTheFirstStop) {
+TEST(AutoEstimator, AStartUpLevelFarFromAnyZeroRateLevelIsATurnAndGivesWayAtTheFirstStop) {
   // Started in a 15 dps turn: a zero-rate level that far out is unlikely (the prior's 2 dps
-  // sigma), a stop's -0.45 dps is not, so the first quiet segments after it restart the bias
-  // without the 90 s wait, and the heading since the start-up takes the new bias. For a chip
-  // whose zero-rate level may lie 20 dps out, 15 dps is no such evidence: the stop waits.
-  const auto run = [](double zero_rate_sigma_dps) {
+  // sigma), so the start-up segments are motion, integrated on the prior (zero bias), and the
+  // stop after them is the start-up: the heading follows the turn while it lasts (off by the
+  // true bias's 0.45 dps, not by the turn's 15). Held longer than 30 s, the turn is taken for
+  // the start-up (a chip may lie that far out), and then the stop's -0.45 dps gives way at
+  // once, without the 90 s wait. For a chip whose zero-rate level may lie 20 dps out, 15 dps is
+  // no such evidence: the start-up takes it, and the stop waits.
+  struct Run {
+    Rig rig;
+    double error_in_turn = 0.0;
+  };
+  const auto run = [](double turn_s, double zero_rate_sigma_dps) {
     EstimatorSettings settings;
     settings.automatic.zero_rate_sigma_dps = zero_rate_sigma_dps;
-    Rig rig(settings);
-    rig.run(8.0, 15.0);   // 120 deg, the first 3 s held as a still start-up
-    rig.run(20.0, 0.0);   // a stop far shorter than the wait
-    rig.run(4.0, -20.0);  // and on
-    return rig;
+    Run r{Rig(settings)};
+    r.rig.run(turn_s, 15.0);
+    r.error_in_turn = r.rig.error();
+    r.rig.run(20.0, 0.0);   // a stop far shorter than the wait
+    r.rig.run(4.0, -20.0);  // and on
+    return r;
   };
-  Rig rig = run(2.0);
-  EXPECT_EQ(rig.estimator().automatic()->bias_recoveries(), 1u);
-  EXPECT_NEAR(rig.estimator().last().bias_dps.z(), -0.45, 0.02);
-  EXPECT_LT(std::abs(rig.error()), 1.0);
-  Rig wide = run(20.0);
-  EXPECT_EQ(wide.estimator().automatic()->bias_recoveries(), 0u);
-  EXPECT_NEAR(wide.estimator().last().bias_dps.z(), -0.45 + 15.0, 0.1);
+  Run turn = run(8.0, 2.0);  // 120 deg
+  const AutoEstimator& automatic = *turn.rig.estimator().automatic();
+  EXPECT_GE(automatic.moving_startup_segments(), 2);
+  EXPECT_EQ(automatic.bias_recoveries(), 0u);
+  EXPECT_LT(std::abs(turn.error_in_turn), 5.0) << "the turn is heading while it lasts";
+  EXPECT_NEAR(turn.rig.estimator().last().bias_dps.z(), -0.45, 0.02);
+  EXPECT_LT(std::abs(turn.rig.error()), 1.0);
+  Run long_turn = run(40.0, 2.0);  // 600 deg; the start-up is taken at 30 s
+  EXPECT_EQ(long_turn.rig.estimator().automatic()->moving_startup_segments(), 10);
+  EXPECT_EQ(long_turn.rig.estimator().automatic()->bias_recoveries(), 1u);
+  EXPECT_NEAR(long_turn.rig.estimator().last().bias_dps.z(), -0.45, 0.02);
+  EXPECT_LT(std::abs(long_turn.rig.error()), 1.0);
+  Run wide = run(8.0, 20.0);
+  EXPECT_EQ(wide.rig.estimator().automatic()->moving_startup_segments(), 0);
+  EXPECT_EQ(wide.rig.estimator().automatic()->bias_recoveries(), 0u);
+  EXPECT_NEAR(wide.rig.estimator().last().bias_dps.z(), -0.45 + 15.0, 0.1);
   // A level near zero is no such evidence: a still start-up at 0.5 dps and a 0.3 dps creep
   // towards zero for 60 s waits, and the creep stays heading.
   Rig creep;
