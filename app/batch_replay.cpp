@@ -126,9 +126,13 @@ std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs) {
     std::error_code error;
     if (fs::is_directory(input, error)) {
       std::vector<std::string> found;
-      for (const auto& entry : fs::directory_iterator(input, error))
-        if (entry.is_regular_file() && is_recording_name(entry.path().filename().string()))
-          found.push_back(entry.path().string());
+      // A link counts even when it leads nowhere: its row then says so, and the exit code with it,
+      // where skipping it would have left a vehicle out of the table without a word.
+      for (const auto& entry : fs::directory_iterator(input, error)) {
+        std::error_code kind_error;
+        const bool file_or_link = entry.is_regular_file(kind_error) || entry.is_symlink(kind_error);
+        if (file_or_link && is_recording_name(entry.path().filename().string())) found.push_back(entry.path().string());
+      }
       if (error) {
         std::fprintf(stderr, "headingd: cannot list %s: %s\n", input.c_str(), error.message().c_str());
         return {};

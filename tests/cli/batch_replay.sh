@@ -44,6 +44,15 @@ head -c 100000 extra.csv >fleet/broken.csv
   [ "$(grep -c '^fleet/vehicle' table2.txt)" -eq 5 ] || fail "damaged recording: exit $rc: $(cat table2.txt err)"
 echo "ok: a truncated recording is a row with its error, the five others done, exit 65"
 
+# A link in the directory that leads nowhere is a row with its error too, not a vehicle left out;
+# exit 66 as for any input that cannot be opened.
+rm fleet/broken.csv && ln -s nowhere.csv fleet/gone.csv
+"$headingd" replay fleet --jobs 2 >table3.txt 2>err; rc=$?
+[ "$rc" -eq 66 ] && grep -q "^fleet/gone.csv .*No such file" table3.txt &&
+  [ "$(grep -c '^fleet/vehicle' table3.txt)" -eq 5 ] || fail "dangling link: exit $rc: $(cat table3.txt err)"
+rm fleet/gone.csv
+echo "ok: a link to nothing is a row with its error, the five others done, exit 66"
+
 mkdir other && cp fleet/vehicle1.csv other/
 out=$("$headingd" replay fleet/vehicle1.csv other/vehicle1.csv --output-dir outs 2>&1); rc=$?
 [ "$rc" -eq 64 ] && grep -q "would both write outs/vehicle1.estimates.csv" <<<"$out" || fail "collision: exit $rc: $out"
