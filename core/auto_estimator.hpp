@@ -119,6 +119,10 @@ class AutoEstimator {
 
  private:
   static constexpr double kTimeEpsilonS = 1e-9;  // two times closer than this are one
+  // What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
+  // a stop and not a steady turn. A start-up level that much less likely than zero as a zero-rate
+  // level is a turn too (startup_level_far_out).
+  static constexpr double kWaitEvidence = 3.0;
   struct Segment {
     SegmentStats stats;
     BlockMeans blocks{0.1};

@@ -51,9 +51,6 @@ constexpr double kFastestCreepDps = 0.5;  // issue 12's creeps: 0.02-0.5 dps
 // 1-200 and run once on 201-400 (bench/sweep.sh; docs/random-worlds.md): 8 and more cost the right restarts.
 constexpr double kCreepOddsAtWait = 4.0;
 constexpr double kCreepOddsPower = 2.0;
-// What the wait before a restart is worth, in nats: odds of 20 to 1 that a run held that long is
-// a stop and not a steady turn.
-constexpr double kWaitEvidence = 3.0;
 // A restart's level is the one an earlier stop measured when they lie within this many sigmas of
 // their spread and the bias walk between (core/bias_history.hpp).
 constexpr double kReturnSigmas = 3.0;

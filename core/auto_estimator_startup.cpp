@@ -19,15 +19,13 @@ namespace {
 constexpr double kMovingStartupRatio = 15.0;
 constexpr int kMaxMovingStartups = 100;
 constexpr double kStartupTurnS = 0.005;  // the start-up's samples are kept this long at a time
-// A start-up level this unlikely as a zero-rate level (in nats against zero, under the prior of
-// zero_rate_sigma_dps; 3: odds of 20 to 1, as a restart's wait weighs it) is a steady turn: the
-// platform started inside one. Integrated as motion on the prior, its heading stays within the
-// prior's few dps of the truth instead of standing still while the platform turns (issue 12's
-// random worlds 19, 43, 75: 18, 12 and 10 dps turns of 13-17 s at start, 361, 187 and 167 deg shown
+// A start-up level more than kWaitEvidence unlikely as a zero-rate level (in nats against zero,
+// under the prior of zero_rate_sigma_dps) is a steady turn: the platform started inside one. Integrated as motion on
+// the prior, its heading stays within the prior's few dps of the truth instead of standing still while the platform
+// turns (issue 12's random worlds 19, 43, 75: 18, 12 and 10 dps turns of 13-17 s at start, 361, 187 and 167 deg shown
 // before the first stop mended them). For at most this many segments (30 s): a chip whose level
 // truly lies that far out (a zero_rate_sigma_dps set too narrow) starts then, and the first stop
 // restarts the bias as before (a level far from zero gives way at once).
-constexpr double kFarOutEvidence = 3.0;
 constexpr int kMaxFarOutStartups = 10;
 
 }  // namespace
@@ -50,7 +48,7 @@ bool AutoEstimator::startup_level_far_out() const {
   // Any 0.1 s block that far out: a turn that ends inside the segment leaves its mean near a
   // plausible level, and the segment is no measurement of it (random world 464: 0.6 s of a 9 dps
   // turn in a start-up, a bias 2 dps off).
-  return segment_.blocks.largest_squared_level() / (2.0 * sigma * sigma) > kFarOutEvidence;
+  return segment_.blocks.largest_squared_level() / (2.0 * sigma * sigma) > kWaitEvidence;
 }
 
 SegmentVerdict AutoEstimator::pass_moving_startup() {
