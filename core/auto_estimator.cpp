@@ -371,7 +371,14 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
   estimate_.bias_dps = bias;
   estimate_.rate_dps = sample.rate_dps - bias;
   if (in_startup_ && moving_startups_ == 0) {
-    estimate_.heading_sigma_deg = 0.0;  // held by assumption: the platform is still
+    // The heading is held on the assumption that the platform is still, which only the closed
+    // segment can show: until then it may be turning at the rate read, less a bias within the
+    // zero-rate prior, and the held heading is off by that turn (RMS over the prior: the rate
+    // and the prior's sigma in quadrature, times the time held). A sigma of zero here read as
+    // "exact" while a platform started in a turn (random world 482: 26 deg at 2 s).
+    const double held_s = std::max(0.0, sample.t_s - segment_.start_t_s);
+    const double rate_dps = segment_.stats.count() > 0 ? segment_.stats.mean_dps().z() : 0.0;
+    estimate_.heading_sigma_deg = held_s * std::hypot(rate_dps, settings_.zero_rate_sigma_dps);
     estimate_.bias_sigma_dps = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   } else {
     estimate_.heading_sigma_deg = std::sqrt(shown_heading_variance_deg2());

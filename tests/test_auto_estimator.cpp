@@ -321,6 +321,30 @@ TEST(AutoEstimator, StartUpWhileTurningRecoversTheBias) {
   EXPECT_NEAR(rig.error(), error_at_300, 0.1) << "and the heading holds from then on";
 }
 
+TEST(AutoEstimator, TheHeadingHeldThroughTheStartUpHasASigmaThatCoversATurn) {
+  // Still: the held heading is right; its sigma is the turn the rate read (the bias, -0.45 dps)
+  // and the zero-rate prior (2 dps) could hide over the time held, until the closed segment
+  // shows the platform still.
+  Rig still;
+  still.run(2.0, 0.0);
+  const Estimate held = still.estimator().last();
+  ASSERT_TRUE(held.in_startup);
+  EXPECT_EQ(held.heading_deg, 0.0);
+  EXPECT_NEAR(held.heading_sigma_deg, 2.0 * std::hypot(0.45, 2.0), 0.1);
+  still.run(2.0, 0.0);
+  ASSERT_FALSE(still.estimator().last().in_startup);
+  EXPECT_LT(still.estimator().last().heading_sigma_deg, 0.1) << "the segment showed it still";
+  // Turning at 12 dps: the held heading is off by the turn, not exactly right, and twice the
+  // sigma covers it (before, the sigma was zero: "exact" to a filter fusing it).
+  Rig turning;
+  turning.run(2.5, 12.0);
+  const Estimate turning_held = turning.estimator().last();
+  ASSERT_TRUE(turning_held.in_startup);
+  EXPECT_EQ(turning_held.heading_deg, 0.0);
+  EXPECT_GT(std::abs(turning.error()), 25.0);
+  EXPECT_LE(std::abs(turning.error()), 2.0 * turning_held.heading_sigma_deg);
+}
+
 TEST(AutoEstimator, AStartUpLevelFarFromAnyZeroRateLevelIsATurnAndGivesWayAtTheFirstStop) {
   // Started in a 15 dps turn: a zero-rate level that far out is unlikely (the prior's 2 dps
   // sigma), so the start-up segments are motion, integrated on the prior (zero bias), and the
