@@ -86,7 +86,10 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
   if (e.fault) raise(entry, DiagnosticLevel::Error, "estimator fault: state not finite, heading frozen; restart");
   if (d.in_startup) raise(entry, DiagnosticLevel::Warn, "start-up: measuring the bias, keep the platform still");
   if (has_sigma && !std::isfinite(sigma)) raise(entry, DiagnosticLevel::Error, "heading sigma is not finite");
-  if (has_sigma && sigma > ros_.heading_sigma_error_deg)
+  // The start-up segment's held heading has the sigma of a turn it could hide until it is judged
+  // (a start in a turn, or a chip far from zero): seconds that pass by themselves, already WARN,
+  // and no heading to set yet.
+  if (has_sigma && sigma > ros_.heading_sigma_error_deg && !d.in_startup)
     raise(entry, DiagnosticLevel::Error, "heading sigma " + number(sigma) + " deg: set the heading");
   if (has_sigma && sigma > ros_.heading_sigma_warn_deg)
     raise(entry, DiagnosticLevel::Warn, "heading sigma " + number(sigma) + " deg");

@@ -196,6 +196,10 @@ TEST(RosDiagnostics, LevelsFollowFaultsAndSigma) {
   e.heading_sigma_deg = 40.0;
   entries = builder.build(e, running_diagnostics(), report, {});
   EXPECT_EQ(entries[1].level, app::DiagnosticLevel::Error);
+  core::Diagnostics starting = running_diagnostics();
+  starting.in_startup = true;  // the held heading's sigma: a turn the start-up could hide, for seconds
+  entries = builder.build(e, starting, report, {});
+  EXPECT_EQ(entries[1].level, app::DiagnosticLevel::Warn) << "no heading to set while the start-up measures";
   e.heading_sigma_deg = 6.0;
   entries = builder.build(e, running_diagnostics(), report, {});
   EXPECT_EQ(entries[1].level, app::DiagnosticLevel::Warn);
