@@ -322,15 +322,15 @@ TEST(AutoEstimator, StartUpWhileTurningRecoversTheBias) {
 }
 
 TEST(AutoEstimator, TheHeadingHeldThroughTheStartUpHasASigmaThatCoversATurn) {
-  // Still: the held heading is right; its sigma is the turn the rate read (the bias, -0.45 dps)
-  // and the zero-rate prior (2 dps) could hide over the time held, until the closed segment
-  // shows the platform still.
+  // Still: the held heading is right; its sigma is the turn the rate read (the bias, 0.3, -0.2
+  // and -0.45 dps) and the zero-rate prior (2 dps) could hide over the time held, until the
+  // closed segment shows the platform still.
   Rig still;
   still.run(2.0, 0.0);
   const Estimate held = still.estimator().last();
   ASSERT_TRUE(held.in_startup);
   EXPECT_EQ(held.heading_deg, 0.0);
-  EXPECT_NEAR(held.heading_sigma_deg, 2.0 * std::hypot(0.45, 2.0), 0.1);
+  EXPECT_NEAR(held.heading_sigma_deg, 2.0 * std::hypot(Vec3(0.3, -0.2, -0.45).norm(), 2.0), 0.05);
   still.run(2.0, 0.0);
   ASSERT_FALSE(still.estimator().last().in_startup);
   EXPECT_LT(still.estimator().last().heading_sigma_deg, 0.1) << "the segment showed it still";
