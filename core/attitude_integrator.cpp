@@ -48,6 +48,7 @@ void AttitudeIntegrator::add_all(const Turn* turns, std::size_t count) {
   constexpr std::size_t kBlock = 64;
   std::array<Step, kBlock> steps;
   double w = q_.w(), x = q_.x(), y = q_.y(), z = q_.z();
+  double vx = vertical_turn_deg_.x(), vy = vertical_turn_deg_.y(), vz = vertical_turn_deg_.z();
   for (std::size_t from = 0; from < count; from += kBlock) {
     const std::size_t n = std::min(kBlock, count - from);
     for (std::size_t i = 0; i < n; ++i) {
@@ -55,6 +56,12 @@ void AttitudeIntegrator::add_all(const Turn* turns, std::size_t count) {
       steps[i] = step_of(t.x_dps, t.y_dps, t.z_dps, t.dt_s);
     }
     for (std::size_t i = 0; i < n; ++i) {
+      // The vertical in body coordinates (the third row of the rotation q makes), at the step's
+      // start; nothing in the chain waits on these sums.
+      const Turn& t = turns[from + i];
+      vx += 2.0 * (x * z - w * y) * (t.x_dps * t.dt_s);
+      vy += 2.0 * (y * z + w * x) * (t.y_dps * t.dt_s);
+      vz += (1.0 - 2.0 * (x * x + y * y)) * (t.z_dps * t.dt_s);
       const double c = steps[i].c, sx = steps[i].sx, sy = steps[i].sy, sz = steps[i].sz;
       const double w1 = (w * c - x * sx) - (y * sy + z * sz);
       const double x1 = (w * sx + x * c) + (y * sz - z * sy);
@@ -70,6 +77,7 @@ void AttitudeIntegrator::add_all(const Turn* turns, std::size_t count) {
     }
   }
   q_ = Eigen::Quaterniond(w, x, y, z);
+  vertical_turn_deg_ = Vec3(vx, vy, vz);
 }
 
 }  // namespace headingd::core

@@ -28,6 +28,12 @@ class AttitudeIntegrator {
     since_normalised_ = 0;
   }
   const Eigen::Quaterniond& attitude() const { return q_; }
+  // The turn about the frame's vertical (its z) each body axis has made since construction, in
+  // degrees: the integral of that axis's rate times the vertical's component along it. Their sum
+  // is the yaw turned; each one is what a scale error of that axis alone multiplies. On a level
+  // platform all of it is z's; a tilted one (a sensor on its side, a hand-held turn) yaws with x
+  // and y too.
+  const Vec3& vertical_turn_deg() const { return vertical_turn_deg_; }
 
  private:
   struct Step {
@@ -36,6 +42,7 @@ class AttitudeIntegrator {
   static Step step_of(double x_dps, double y_dps, double z_dps, double dt_s);
 
   Eigen::Quaterniond q_ = Eigen::Quaterniond::Identity();
+  Vec3 vertical_turn_deg_ = Vec3::Zero();
   unsigned since_normalised_ = 0;
 };
 

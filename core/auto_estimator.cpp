@@ -107,7 +107,7 @@ double AutoEstimator::set_heading(double heading_deg, double variance_deg2) {
   replaced_.pending = false;       // its angles predate the fix
   return_correction_deg_.reset();  // and so does a correction held for a return,
   history_.forget();               // and every heading the history kept
-  turned_from_deg_ = filters_[2].angle_deg();
+  count_turns_from_here();
   shown_undecided_deg_ = 0.0;
   return filters_[2].angle_deg() - shown_before_deg;
 }
@@ -134,7 +134,7 @@ void AutoEstimator::restore_heading(double heading_deg, double variance_deg2) {
   filters_[2].restore_angle(heading_deg, variance_deg2);  // the variance saved includes the scale's
   fixed_angle_variance_deg2_ = std::max(0.0, filters_[2].angle_variance());
   replaced_.pending = false;
-  turned_from_deg_ = heading_deg;
+  count_turns_from_here();
   segment_.filters_at_start[2] = filters_[2].state();
   estimate_.heading_deg = heading_deg;
 }
@@ -348,6 +348,17 @@ Vec3 AutoEstimator::bias_dps() const {
 double AutoEstimator::heading_variance_scale() const {
   if (!settings_.calibrate_sigma) return 1.0;
   return fix_innovations_.variance_scale(stop_innovations_.variance_scale(), kFixScaleFloor);
+}
+
+double AutoEstimator::scale_variance_deg2() const {
+  // Each axis's scale error multiplies the turn it made about the vertical, independently of the
+  // others. z's is taken on the filter's net turn, on which fixes learn it; x's and y's are zero
+  // on a level platform and grow on a tilted or hand-held one (BROAD's trials, turned about the
+  // vertical through x for minutes: its error grows with that turn, which z's share never saw).
+  const Vec3 turned = attitude_.vertical_turn_deg() - vertical_turned_from_deg_;
+  const double xy_variance = settings_.scale_factor_sigma * settings_.scale_factor_sigma;
+  return scale_.heading_variance_deg2(filters_[2].angle_deg() - turned_from_deg_) +
+         xy_variance * (turned.x() * turned.x() + turned.y() * turned.y());
 }
 
 double AutoEstimator::shown_heading_variance_deg2() const {

@@ -344,10 +344,17 @@ class AutoEstimator {
   LastAccepted last_accepted_;
   AutoSettings settings_;
   std::array<AxisFilter, 3> filters_{};
-  double turned_from_deg_ = 0.0;  // the heading at start, restore or the last fix
+  double turned_from_deg_ = 0.0;                  // the heading at start, restore or the last fix
+  Vec3 vertical_turned_from_deg_ = Vec3::Zero();  // the attitude's vertical turns then
   ScaleFactor scale_;
-  double scale_variance_deg2() const {
-    return scale_.heading_variance_deg2(filters_[2].angle_deg() - turned_from_deg_);
+  // The scale factors' share of the heading variance since the last fix: z's (learned from
+  // fixes) times the filter's net turn, and x's and y's (as configured) times the turns they
+  // made about the vertical.
+  double scale_variance_deg2() const;
+  // Turning counts from here (start, restore, a fix).
+  void count_turns_from_here() {
+    turned_from_deg_ = filters_[2].angle_deg();
+    vertical_turned_from_deg_ = attitude_.vertical_turn_deg();
   }
   // The heading variance shown: the filter's, the part since the last fix or restore scaled by
   // what the stops and the fixes have shown of it (settings_.calibrate_sigma), and the scale

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "core/attitude_integrator.hpp"
 #include "core/estimator.hpp"
@@ -42,6 +43,23 @@ TEST(AttitudeIntegrator, ConstantThreeAxisRateMatchesAxisAngle) {
   rotate(integrator, rate, 10.0, 4000);
   const Eigen::Quaterniond expected(Eigen::AngleAxisd(deg_to_rad(130.0), rate.normalized()));
   EXPECT_LT(angle_between(integrator.attitude(), expected), 1e-6);
+}
+
+TEST(AttitudeIntegrator, EachAxisTurnAboutTheVerticalAddsUpToTheYaw) {
+  AttitudeIntegrator integrator;
+  rotate(integrator, Vec3(0, 0, 20), 1.0, 400);  // level: yaw +20 deg, all of it z's
+  rotate(integrator, Vec3(0, 45, 0), 2.0, 800);  // pitch +90: x now points down
+  rotate(integrator, Vec3(30, 0, 0), 1.0, 400);  // +30 about x: yaw -30 deg
+  const Vec3 turned = integrator.vertical_turn_deg();
+  EXPECT_NEAR(turned.x(), -30.0, 1e-6);
+  EXPECT_NEAR(turned.y(), 0.0, 1e-6);
+  EXPECT_NEAR(turned.z(), 20.0, 1e-6);
+  // The twist about the vertical (as BROAD's heading error is taken) is their sum: q is
+  // Rz(-10) Ry(90).
+  const Eigen::Quaterniond& q = integrator.attitude();
+  EXPECT_NEAR(rad_to_deg(2.0 * std::atan2(q.z(), q.w())), turned.sum(), 1e-6);
+  rotate(integrator, Vec3(0, 0, 50), 1.0, 400);  // about z, horizontal now: no turn about the vertical
+  EXPECT_NEAR(integrator.vertical_turn_deg().z(), 20.0, 1e-6);
 }
 
 TEST(AttitudeIntegrator, ForwardAndBackReturnsToStart) {

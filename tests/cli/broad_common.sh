@@ -9,11 +9,12 @@ trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 [ -d "$data/broad-05" ] || { echo "SKIP: no $data/broad-05"; exit 77; }
 
-# check_ratio LABEL IMU TRUTH REFERENCE_LINE MAX: replays IMU with auto, scores it, and fails if
-# auto's heading RMSE over the reference (the figure on the scorer's line matching REFERENCE_LINE)
-# is above MAX.
+# check_ratio LABEL IMU TRUTH REFERENCE_LINE MAX [MIN_WITHIN]: replays IMU with auto, scores it,
+# and fails if auto's heading RMSE over the reference (the figure on the scorer's line matching
+# REFERENCE_LINE) is above MAX, or, given MIN_WITHIN, if fewer than that percentage of the moving
+# samples lie within auto's own 2 sigma.
 check_ratio() {
-  local label="$1" imu="$2" truth="$3" reference_line="$4" max="$5" out reference auto ratio
+  local label="$1" imu="$2" truth="$3" reference_line="$4" max="$5" min_within="${6:-}" out reference auto ratio within
   "$headingd" replay --no-dds --quiet "$imu" --output-rate 0 -o "$dir/est.csv" 2>/dev/null ||
     fail "$label: replay failed"
   out=$("$score" "$truth" "$imu" "auto=$dir/est.csv") || fail "$label: $out"
@@ -23,4 +24,10 @@ check_ratio() {
   ratio=$(awk -v a="$auto" -v r="$reference" 'BEGIN { printf "%.3f", a / r }')
   echo "$label: auto $auto deg, $reference_line $reference deg, ratio $ratio (at most $max)"
   awk -v x="$ratio" -v m="$max" 'BEGIN { exit !(x <= m) }' || fail "$label: auto/reference $ratio above $max"
+  [ -n "$min_within" ] || return 0
+  within=$(sed -n 's/.*headingd auto .*2 sigma on \([0-9.]*\) %.*/\1/p' <<<"$out")
+  [ -n "$within" ] || fail "$label: no share within 2 sigma in: $out"
+  echo "$label: $within % of the moving samples within 2 sigma (at least $min_within)"
+  awk -v x="$within" -v m="$min_within" 'BEGIN { exit !(x >= m) }' ||
+    fail "$label: only $within % within 2 sigma, below $min_within"
 }
