@@ -2,7 +2,8 @@
 // about the vertical of q_true * q_est^-1 (earth frame), the estimate aligned to the true
 // orientation at the first valid sample, RMSE over the samples the dataset marks as moving.
 // Also integrates the raw gyro twice for reference: with no bias removal, and with the bias
-// taken by hand as the mean of the first rest. For estimates with a heading sigma, the share of
+// taken by hand as the mean of the first rest, and the turn each axis made about the vertical
+// (from the truth). For estimates with a heading sigma, the share of
 // moving samples within twice it.
 // Usage: broad_heading_error TRUTH.csv IMU.csv [LABEL=ESTIMATES.csv ...]
 //        (estimates written by `headingd replay --output-rate 0`, one row per IMU sample)
@@ -140,6 +141,23 @@ std::map<long long, Quat> integrate(const std::vector<core::Sample>& samples, co
   return out;
 }
 
+// The turn each body axis made about the vertical over the recording (deg), from the true
+// orientation and the rates less `bias_dps`: what a scale error of that axis multiplies.
+core::Vec3 vertical_turn_by_axis(const std::vector<TruthRow>& truth, const std::vector<core::Sample>& samples,
+                                 const core::Vec3& bias_dps) {
+  std::map<long long, const TruthRow*> by_time;
+  for (const auto& row : truth)
+    if (row.valid) by_time.emplace(key(row.t_s), &row);
+  core::Vec3 turned = core::Vec3::Zero();
+  for (std::size_t i = 1; i < samples.size(); ++i) {
+    const auto it = by_time.find(key(samples[i - 1].t_s));
+    if (it == by_time.end()) continue;
+    const core::Vec3 up_in_body = it->second->q.conjugate() * core::Vec3::UnitZ();
+    turned += up_in_body.cwiseProduct(samples[i].rate_dps - bias_dps) * (samples[i].t_s - samples[i - 1].t_s);
+  }
+  return turned;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -189,6 +207,9 @@ int main(int argc, char** argv) {
               static_cast<double>(rest_n) / 285.714);
   std::printf("  %-40s %6.2f   (bias %.3f %.3f %.3f dps)\n", "raw gyro, same rest less its last 0.5 s",
               rmse(truth, integrate(samples, trimmed_bias)), trimmed_bias.x(), trimmed_bias.y(), trimmed_bias.z());
+  const core::Vec3 turned = vertical_turn_by_axis(truth, samples, trimmed_bias);
+  std::printf("  (turn about the vertical by axis, from the truth: x %.0f, y %.0f, z %.0f deg)\n", turned.x(),
+              turned.y(), turned.z());
   for (int i = 3; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto eq = arg.find('=');
