@@ -68,7 +68,10 @@ SegmentVerdict AutoEstimator::pass_moving_startup() {
     filters_[axis].set_plain(p);
   }
   flush_startup_turn();
-  attitude_.set_attitude(startup_attitude_with_bias(Vec3::Zero(), startup_turns_.size()));
+  // The held segment's turns, through the attitude itself (not a copy, as a start-up's
+  // re-integration with the bias measured later is): its turns about the vertical count.
+  attitude_.set_attitude(attitude_at_startup_);
+  attitude_.add_all(startup_turns_.data(), startup_turns_.size());
   return verdict;
 }
 
