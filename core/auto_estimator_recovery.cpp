@@ -54,6 +54,11 @@ constexpr double kCreepOddsPower = 2.0;
 // A restart's level is the one an earlier stop measured when they lie within this many sigmas of
 // their spread and the bias walk between (core/bias_history.hpp).
 constexpr double kReturnSigmas = 3.0;
+// A return's correction is applied only beyond this many sigmas of its own uncertainty (the
+// level's, and the walk's integral over the span); a Kalman gain against the heading's variance
+// instead lost right mends on the 2 h random worlds, where that variance is the overconfident
+// one a wrong bias left (docs/random-worlds.md, 2026-12-06).
+constexpr double kReturnSignificance = 2.0;
 
 }  // namespace
 
@@ -320,14 +325,22 @@ void AutoEstimator::recover_bias() {
   // A level a stop measured before (the bias never moved; creeps, a temperature model or a bias
   // set from outside took the estimate away from it): the heading since that stop owes the
   // difference, held until a stop after motion agrees with the level (return_correction_deg_).
-  // Not where the start-up's own correction below applies.
+  // Not where the start-up's own correction below applies. Nor past a stop held elsewhere for as
+  // long as a quiet run needs to restart a confirmed bias whatever its level (no creep), nor
+  // where the correction is within what the bias walk alone makes of the heading over its span:
+  // a level matched hours later only because the walk's sigma had grown (day-long random worlds:
+  // +1015 deg from a level 13 h old, +1700 deg from one 11 h old, the bias measured at other
+  // levels at stop after stop between).
   const bool startup_corrected =
       bias_from_startup_only_ && std::abs(mean.z() - quiet_.filters_at_start[2].bias_dps) > kFastestCreepDps;
-  const std::optional<double> returned_deg =
-      startup_corrected
-          ? std::nullopt
-          : history_.correction_for_return(mean.z(), r.z(), walk_dps2_per_s_, kReturnSigmas, quiet_.history_at_start,
-                                           run_start_s, quiet_.filters_at_start[2].angle_deg);
+  std::optional<double> returned_deg;
+  if (!startup_corrected) {
+    const auto found = history_.correction_for_return(
+        mean.z(), r.z(), walk_dps2_per_s_, kReturnSigmas, quiet_.history_at_start, run_start_s,
+        quiet_.filters_at_start[2].angle_deg, kUnconditionalRecoveryFactor * settings_.recover_after_s);
+    if (found && std::abs(found->correction_deg) > kReturnSignificance * std::sqrt(found->variance_deg2))
+      returned_deg = found->correction_deg;
+  }
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
     replaced_.as_kept[axis] = filters_[axis].state();
@@ -358,7 +371,7 @@ void AutoEstimator::recover_bias() {
     replaced_.as_restarted[axis] = filters_[axis].state();
   }
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * quiet_.attitude_at_start);
-  history_.measured(replaced_.at_t_s, mean.z(), r.z(), filters_[2].angle_deg());
+  history_.measured(replaced_.at_t_s, mean.z(), r.z(), filters_[2].angle_deg(), false, quiet_.duration_s);
   return_correction_deg_ = returned_deg;
   replaced_.models_kept = models_.temperature_models();
   models_.relearn_after_recovery(quiet_.sigma_dps);

@@ -138,7 +138,8 @@ SegmentVerdict AutoEstimator::close_startup() {
   ++accepted_;
   last_still_t_s_ = segment_.start_t_s + duration_s;
   still_run_start_t_s_ = segment_.start_t_s;
-  history_.measured(last_still_t_s_, filters_[2].bias_dps(), filters_[2].bias_variance(), filters_[2].angle_deg());
+  history_.measured(last_still_t_s_, filters_[2].bias_dps(), filters_[2].bias_variance(), filters_[2].angle_deg(),
+                    false, duration_s);
   bias_confirmed_ = false;
   motion_since_basis_ = false;
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;

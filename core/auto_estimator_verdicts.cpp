@@ -278,8 +278,11 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
     ++returns_mended_;
     return_correction_deg_.reset();
   }
+  // Back to back with the last accepted segment: the same run goes on.
+  const bool same_run = std::isfinite(last_still_t_s_) && segment_.start_t_s - last_still_t_s_ <= kSameStillRunGapS;
+  const double run_start_t_s = same_run ? still_run_start_t_s_ : segment_.start_t_s;
   history_.measured(end_t_s, filters_[2].bias_dps(), filters_[2].bias_variance(), filters_[2].angle_deg(),
-                    z_carried_by_model());
+                    z_carried_by_model(), end_t_s - run_start_t_s);
   // The attitude goes back to the segment's start, turned about the vertical by the heading
   // correction the bias measurement made to the time before.
   const double yaw_correction_deg = filters_[2].angle_deg() - segment_.filters_at_start[2].angle_deg;
@@ -303,9 +306,7 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   if (segment_.temp_count > 0) temp_at_still_c_ = segment_.temp_sum_c / segment_.temp_count;
   bias_measured_at(segment_.temp_count > 0 ? temp_at_still_c_ : previous_temp_c_);
   last_accepted_.still_run_start_before_t_s = still_run_start_t_s_;
-  // Back to back with the last accepted segment: the same run goes on.
-  if (!(std::isfinite(last_still_t_s_) && segment_.start_t_s - last_still_t_s_ <= kSameStillRunGapS))
-    still_run_start_t_s_ = segment_.start_t_s;
+  still_run_start_t_s_ = run_start_t_s;
   last_still_t_s_ = end_t_s;
 }
 

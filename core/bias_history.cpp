@@ -9,9 +9,11 @@ namespace {
 constexpr double kSameLevelSigmas = 2.0;
 }  // namespace
 
-void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2, double heading_deg, bool carried) {
+void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2, double heading_deg, bool carried,
+                           double held_s) {
   if (!std::isfinite(bias_dps) || !std::isfinite(variance_dps2) || !std::isfinite(heading_deg)) return;
   const Level level{.t_s = t_s,
+                    .held_s = std::isfinite(held_s) ? std::max(0.0, held_s) : 0.0,
                     .bias_dps = bias_dps,
                     .variance_dps2 = std::max(0.0, variance_dps2),
                     .heading_deg = heading_deg,
@@ -27,7 +29,9 @@ void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2, do
     const double sd = std::sqrt(anchor_variance + level.variance_dps2);
     if (std::abs(anchor_dps - bias_dps) <= kSameLevelSigmas * sd) {
       const double first_bias = last.first_bias_dps, first_variance = last.first_variance_dps2;
+      const double held_before_s = last.held_s;
       last = level;
+      last.held_s = std::max(last.held_s, held_before_s);
       if (carried) {
         last.first_bias_dps = first_bias;
         last.first_variance_dps2 = first_variance;
@@ -40,9 +44,11 @@ void BiasHistory::measured(double t_s, double bias_dps, double variance_dps2, do
   count_ = std::min(count_ + 1, kLevels);
 }
 
-std::optional<double> BiasHistory::correction_for_return(double level_dps, double level_variance_dps2,
-                                                         double walk_dps2_per_s, double sigmas, const Mark& until,
-                                                         double until_t_s, double until_heading_deg) const {
+std::optional<BiasHistory::Return> BiasHistory::correction_for_return(double level_dps, double level_variance_dps2,
+                                                                      double walk_dps2_per_s, double sigmas,
+                                                                      const Mark& until, double until_t_s,
+                                                                      double until_heading_deg,
+                                                                      double refuting_span_s) const {
   // The level that agrees best, in sigmas.
   const Level* best = nullptr;
   double best_z = sigmas;
@@ -54,15 +60,21 @@ std::optional<double> BiasHistory::correction_for_return(double level_dps, doubl
     // The level spans its first point to its latest (a stop's estimate converges, a carried one
     // walks): either end agreeing is a return to it.
     const double z = std::min(std::abs(past.bias_dps - level_dps), std::abs(past.first_bias_dps - level_dps)) / sd;
-    if (!(z <= best_z)) continue;  // NaN: no match
+    if (!(z <= sigmas)) {                         // NaN: no match
+      if (past.held_s >= refuting_span_s) break;  // the bias sat elsewhere: no older level
+      continue;
+    }
+    if (!(z <= best_z)) continue;
     best_z = z;
     best = &past;
   }
   if (best == nullptr || !std::isfinite(until_heading_deg)) return std::nullopt;
   // The turn since, had the bias been the level all along, against the turn the heading made.
-  const double turned_deg =
-      (until.rate_integral_deg - best->at.rate_integral_deg) - level_dps * (until.integrated_s - best->at.integrated_s);
-  return turned_deg - (until_heading_deg - best->heading_deg);
+  const double span_s = until.integrated_s - best->at.integrated_s;
+  const double turned_deg = (until.rate_integral_deg - best->at.rate_integral_deg) - level_dps * span_s;
+  const double variance_deg2 = std::max(0.0, level_variance_dps2) * span_s * span_s +
+                               std::max(0.0, walk_dps2_per_s) * span_s * span_s * span_s / 3.0;
+  return Return{.correction_deg = turned_deg - (until_heading_deg - best->heading_deg), .variance_deg2 = variance_deg2};
 }
 
 }  // namespace headingd::core

@@ -244,11 +244,11 @@ TEST(BiasHistory, AReturnToAnEarlierLevelOwesTheHeadingTheRawTurnLessThatLevelSi
   const BiasHistory::Mark run = history.mark();  // a stop at 0.50 restarts the bias
   const auto back = history.correction_for_return(0.50, 1e-6, 0.0, 3.0, run, 370.0, 290.0);
   ASSERT_TRUE(back.has_value());
-  EXPECT_NEAR(*back, 13.0, 1e-9);
+  EXPECT_NEAR(back->correction_deg, 13.0, 1e-9);
   // Back at the latest level: the turn since it, with that level, is the heading's own.
   const auto same = history.correction_for_return(0.55, 1e-6, 0.0, 3.0, run, 370.0, 290.0);
   ASSERT_TRUE(same.has_value());
-  EXPECT_NEAR(*same, 0.0, 1e-9);
+  EXPECT_NEAR(same->correction_deg, 0.0, 1e-9);
   // A level no stop measured: no story to tell.
   EXPECT_FALSE(history.correction_for_return(0.40, 1e-6, 0.0, 3.0, run, 370.0, 290.0).has_value());
   // The bias walk widens the match with the time since: 0.475 is 0.025 from 0.50 and 0.55; a walk
@@ -256,7 +256,7 @@ TEST(BiasHistory, AReturnToAnEarlierLevelOwesTheHeadingTheRawTurnLessThatLevelSi
   EXPECT_FALSE(history.correction_for_return(0.475, 0.0, 0.0, 3.0, run, 370.0, 290.0).has_value());
   const auto walked = history.correction_for_return(0.475, 0.0, 1e-4 / 360.0, 3.0, run, 370.0, 290.0);
   ASSERT_TRUE(walked.has_value());
-  EXPECT_NEAR(*walked, 13.0 + 0.025 * 360.0, 1e-9);
+  EXPECT_NEAR(walked->correction_deg, 13.0 + 0.025 * 360.0, 1e-9);
   // After a heading fix the headings kept compare with nothing.
   history.forget();
   EXPECT_FALSE(history.correction_for_return(0.50, 1e-6, 0.0, 3.0, run, 370.0, 290.0).has_value());
@@ -286,18 +286,42 @@ TEST(BiasHistory, ABiasCarriedStepByStepLeavesItsFirstLevelBehindForAReturn) {
   const auto back = carried.correction_for_return(0.50, 1e-6, 0.0, 3.0, carried.mark(), 1000.0, heading_deg);
   ASSERT_TRUE(back.has_value());
   // Had the bias been 0.50 since that point the heading would not have moved.
-  EXPECT_NEAR(*back, heading_at_first_level_deg - heading_deg, 1e-9);
-  EXPECT_GT(*back, 40.0);
+  EXPECT_NEAR(back->correction_deg, heading_at_first_level_deg - heading_deg, 1e-9);
+  EXPECT_GT(back->correction_deg, 40.0);
   // A level inside the walk matches the step nearest it, not the walk's start.
   const auto middle = carried.correction_for_return(0.55, 1e-6, 0.0, 3.0, carried.mark(), 1000.0, heading_deg);
   ASSERT_TRUE(middle.has_value());
-  EXPECT_LT(std::abs(*middle), std::abs(*back));
+  EXPECT_LT(std::abs(middle->correction_deg), std::abs(back->correction_deg));
   // The same steps measured stop by stop with nothing carrying the estimate are a bias that
   // drifted for real: one level, the latest, and no return to where it began.
   double measured_heading_deg = 0.0, unused_deg = 0.0;
   const BiasHistory measured = walk(false, measured_heading_deg, unused_deg);
   EXPECT_FALSE(
       measured.correction_for_return(0.50, 1e-6, 0.0, 3.0, measured.mark(), 1000.0, measured_heading_deg).has_value());
+}
+
+TEST(BiasHistory, NoReturnAcrossALongStopAtAnotherLevelAndTheWalksShareInItsVariance) {
+  // A stop at 0.50 (60 s held), a drive, a stop at 0.53 held for 300 s, a drive, then a quiet run
+  // at 0.50: had the bias never moved, the 300 s stop at 0.53 would have been a creep held that
+  // long. With a refuting span of 270 s no return; with 400 s (or none) the return to 0.50.
+  BiasHistory history;
+  history.measured(60.0, 0.50, 1e-6, 0.0, false, 60.0);
+  for (int i = 0; i < 100; ++i) history.integrate(1.50, 1.0);
+  for (int k = 1; k <= 100; ++k) history.measured(160.0 + 3.0 * k, 0.53, 1e-6, 100.0, false, 3.0 * k);
+  for (int i = 0; i < 100; ++i) history.integrate(1.53, 1.0);
+  const BiasHistory::Mark run = history.mark();
+  EXPECT_FALSE(history.correction_for_return(0.50, 1e-6, 0.0, 3.0, run, 560.0, 200.0, 270.0).has_value());
+  const auto back = history.correction_for_return(0.50, 1e-6, 0.0, 3.0, run, 560.0, 200.0, 400.0);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_TRUE(history.correction_for_return(0.50, 1e-6, 0.0, 3.0, run, 560.0, 200.0).has_value());
+  // Integrated over the 200 s since 0.50's point: the level's variance times T^2, and the walk's
+  // integral, q T^3 / 3, which a match over hours makes larger than any correction it proposes.
+  const double q = 1e-8;
+  const auto walked = history.correction_for_return(0.50, 1e-6, q, 3.0, run, 560.0, 200.0, 400.0);
+  ASSERT_TRUE(walked.has_value());
+  EXPECT_NEAR(back->variance_deg2, 1e-6 * 200.0 * 200.0, 1e-9);
+  EXPECT_NEAR(walked->variance_deg2, 1e-6 * 200.0 * 200.0 + q * 200.0 * 200.0 * 200.0 / 3.0, 1e-9);
+  EXPECT_NEAR(walked->correction_deg, back->correction_deg, 1e-12);
 }
 
 TEST(BiasHistory, StopsAtOneLevelKeepOnlyTheLatestAndTheOldestLevelsGo) {
@@ -308,7 +332,7 @@ TEST(BiasHistory, StopsAtOneLevelKeepOnlyTheLatestAndTheOldestLevelsGo) {
   for (int i = 0; i < 50; ++i) history.integrate(0.60, 1.0);
   const auto back = history.correction_for_return(0.50, 1e-6, 0.0, 3.0, history.mark(), 150.0, 5.0);
   ASSERT_TRUE(back.has_value());
-  EXPECT_NEAR(*back, (0.60 - 0.50) * 50.0, 1e-9);
+  EXPECT_NEAR(back->correction_deg, (0.60 - 0.50) * 50.0, 1e-9);
   // Hundreds of distinct levels later the first is gone; the bounded memory never allocates.
   for (int i = 1; i <= 300; ++i) history.measured(150.0 + i, 0.50 + 0.01 * i, 1e-8, 5.0);
   EXPECT_FALSE(history.correction_for_return(0.50, 1e-8, 0.0, 3.0, history.mark(), 500.0, 5.0).has_value());
