@@ -334,18 +334,12 @@ void AutoEstimator::recover_bias() {
   const bool startup_corrected =
       bias_from_startup_only_ && std::abs(mean.z() - quiet_.filters_at_start[2].bias_dps) > kFastestCreepDps;
   std::optional<double> returned_deg;
-  // A return too uncertain to apply still says the heading may be off by its correction: the
-  // variance takes it as it does an applied one's (day-long random world 17: -228 deg not applied
-  // under a sigma of 42, 11.2 % of the day within 2 sigma; 28.8 % with it, the estimates unchanged).
-  double unapplied_deg = 0.0;
   if (!startup_corrected) {
     const auto found = history_.correction_for_return(
         mean.z(), r.z(), walk_dps2_per_s_, kReturnSigmas, quiet_.history_at_start, run_start_s,
         quiet_.filters_at_start[2].angle_deg, kUnconditionalRecoveryFactor * settings_.recover_after_s);
     if (found && std::abs(found->correction_deg) > kReturnSignificance * std::sqrt(found->variance_deg2))
       returned_deg = found->correction_deg;
-    else if (found)
-      unapplied_deg = found->correction_deg;
   }
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
@@ -369,7 +363,7 @@ void AutoEstimator::recover_bias() {
     // undo. The variance keeps the whole change either way.
     AxisFilter::State corrected = from;
     if (bias_from_startup_only_ && !creep_sized) corrected.angle_deg -= exposed_deg;
-    const double returned = axis != 2 ? 0.0 : returned_deg ? *returned_deg : unapplied_deg;
+    const double returned = axis == 2 && returned_deg ? *returned_deg : 0.0;
     if (axis == 2) yaw_correction_deg = corrected.angle_deg - from.angle_deg;
     filters_[axis].restart_bias(
         corrected, mean[a], r[a],

@@ -15,12 +15,3 @@ c="$(awk '{ print $10 }' <<<"$row")"
 echo "day-long world 5: auto max $auto deg, C $c deg"
 awk -v a="$auto" -v c="$c" 'BEGIN { exit !(a + 0 > 0 && a + 0 < c + 0) }' || fail "auto's max $auto is not below C's $c"
 grep -q '^auto worse than C on 0 of 1 seeds' <<<"$out" || fail "the run lists a loss to C: $(grep '^auto worse' <<<"$out")"
-
-# Day-long world 17: a return too uncertain to apply (-228 deg against a sigma of 645 from the
-# walk over hours) left the heading that far off under a sigma of 42 deg, 11.2 % of the day's
-# outputs within 2 sigma; its correction now stays in the variance (28.8 %). Fails below 20 %.
-out="$("$sweep" 1 24 17)" || fail "sweep exited with $?"
-row="$(grep -E '^ +17 +[0-9]+ ' <<<"$out")" || fail "no row for seed 17 in: $out"
-share="$(awk '{ sub(/%$/, "", $NF); print $NF }' <<<"$row")"
-echo "day-long world 17: ${share} % of outputs within 2 sigma"
-awk -v s="$share" 'BEGIN { exit !(s + 0 >= 20) }' || fail "world 17's share within 2 sigma is ${share} %, below 20 %"
