@@ -40,6 +40,11 @@ void print_estimator(const core::Estimator& estimator) {
                    "  returned     %llu restarts back to a level an earlier stop measured: the heading since that "
                    "stop was corrected once a later stop agreed (last by %+.1f deg)\n",
                    static_cast<unsigned long long>(d.returns_mended), d.last_return_correction_deg);
+    if (d.gaps_bridged > 0)
+      std::fprintf(stderr,
+                   "  gaps         %llu in the samples, %.2f s in all, bridged at the rate on either side (each "
+                   "ended the segment under way; the heading sigma took what the rates left open)\n",
+                   static_cast<unsigned long long>(d.gaps_bridged), d.gaps_bridged_s);
     if (d.refused_recoveries > 0)
       std::fprintf(stderr,
                    "  refused      %llu quiet periods steady at a level the confirmed bias could not have drifted "

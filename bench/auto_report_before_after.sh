@@ -30,21 +30,7 @@ usage() {
 sha="$(git -C "$HEADINGD_ROOT" rev-parse --verify --quiet "$rev^{commit}")" ||
   usage "no commit '$rev' in this clone"
 
-# The baseline's daemon, built once from the revision's tree (no checkout of this clone moves).
-baseline_dir="$HEADINGD_ROOT/build/baseline-${sha:0:12}"
-before="$baseline_dir/src/build/default/app/headingd"
-if [ ! -x "$before" ]; then
-  echo "building headingd at ${sha:0:12} in $baseline_dir (once; log in $baseline_dir/build.log)" >&2
-  rm -rf "$baseline_dir"
-  mkdir -p "$baseline_dir/src"
-  git -C "$HEADINGD_ROOT" archive "$sha" | tar -x -C "$baseline_dir/src"
-  if ! (cd "$baseline_dir/src" && cmake --preset default && cmake --build --preset default --target headingd) \
-    >"$baseline_dir/build.log" 2>&1; then
-    tail -n 30 "$baseline_dir/build.log" >&2
-    echo "auto_report_before_after: the baseline did not build" >&2
-    exit 1
-  fi
-fi
+before="$(baseline_daemon "$sha")"
 after="$HEADINGD_ROOT/build/default/app/headingd"
 
 work="$(mktemp -d)"

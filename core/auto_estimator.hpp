@@ -116,6 +116,9 @@ class AutoEstimator {
   std::uint64_t returns_mended() const { return returns_mended_; }
   double last_return_correction_deg() const { return last_return_correction_deg_; }
   double last_still_t_s() const { return last_still_t_s_; }
+  // Gaps in the samples bridged (below update() in auto_estimator.cpp), and their seconds in all.
+  std::uint64_t gaps_bridged() const { return gaps_; }
+  double gaps_bridged_s() const { return gaps_s_; }
 
  private:
   static constexpr double kTimeEpsilonS = 1e-9;  // two times closer than this are one
@@ -147,6 +150,23 @@ class AutoEstimator {
   // The sample's rate as the attitude takes it: bias-corrected, z by the learned scale.
   AttitudeIntegrator::Turn turn_of(const Sample& sample, double dt_s) const;
   void fill_estimate(const Sample& sample);
+  // A gap in the samples (below update() in auto_estimator.cpp): whether `dt_s` is one, and the sample after it.
+  bool is_gap(double dt_s) const;
+  double gap_threshold_s() const;  // infinite until the usual interval is known
+  const Estimate& bridge_gap(const Sample& sample, double gap_s);
+  void end_runs_at_gap();
+  struct GapSide {
+    Vec3 rate_dps = Vec3::Zero();
+    bool still = false;  // judged so (an accepted segment)
+  };
+  void integrate_gap(const GapSide& before, const Vec3& after_dps, double gap_s);
+  // Every axis's change within the range gate (what a segment's samples may span).
+  bool within_gate(const Vec3& change_dps) const;
+  // The closing segment's mean sample interval, as the usual one (enough samples only).
+  void note_sample_interval();
+  double sample_interval_s_ = std::numeric_limits<double>::quiet_NaN();
+  std::uint64_t gaps_ = 0;
+  double gaps_s_ = 0.0;
 
   void begin_segment(double t_s);
   void add_to_segment(const Sample& sample, double dt_s);

@@ -36,6 +36,10 @@ struct Diagnostics {
   // motion confirmed, and the last such correction (deg; the heading jumped by it).
   std::uint64_t returns_mended = 0;
   double last_return_correction_deg = 0.0;
+  // auto: gaps in the samples (a lost FIFO, a chip set up again, a recording's hole) bridged at
+  // the rate on either side, and their seconds in all.
+  std::uint64_t gaps_bridged = 0;
+  double gaps_bridged_s = 0.0;
   double segment_s = 0.0;               // the configured segment length
   Vec3 sigma_still_dps = Vec3::Zero();  // per-sample noise while still; zero until measured
   // Angle random walk per axis; zero where the method does not learn it (the paper's A/B/C).

@@ -183,6 +183,8 @@ Diagnostics Estimator::diagnostics() const {
     d.recoveries_taken_back = a->recoveries_taken_back();
     d.returns_mended = a->returns_mended();
     d.last_return_correction_deg = a->last_return_correction_deg();
+    d.gaps_bridged = a->gaps_bridged();
+    d.gaps_bridged_s = a->gaps_bridged_s();
     d.noise_density_dps_rt_hz = a->noise_density_dps_rt_hz();
     d.last_still_t_s = a->last_still_t_s();
     d.motion_hint = a->motion_hint();

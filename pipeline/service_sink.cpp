@@ -43,6 +43,14 @@ void ServiceSink::batch_done(const core::Estimator& estimator, const core::Sampl
                   diagnostics.last_return_correction_deg, last.heading_sigma_deg);
     app::log(app::LogPriority::Notice, "bias-recovery", text);
   }
+  if (rose(diagnostics.gaps_bridged, gaps_seen_)) {
+    std::snprintf(text, sizeof text,
+                  "a gap in the samples was bridged (%llu so far, %.2f s in all; lost samples, a chip set up "
+                  "again?): the heading took the rate on either side, heading sigma now %.2f deg",
+                  static_cast<unsigned long long>(diagnostics.gaps_bridged), diagnostics.gaps_bridged_s,
+                  last.heading_sigma_deg);
+    app::log(app::LogPriority::Warning, "sample-gap", text);
+  }
   if (rose(diagnostics.refuted_models, refuted_models_seen_)) {
     std::snprintf(text, sizeof text,
                   "a temperature model was forgotten: a long quiet period's level followed the temperature with "

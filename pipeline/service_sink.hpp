@@ -24,6 +24,7 @@ class ServiceSink final : public BatchSink {
   std::uint64_t refuted_models_seen_ = 0;
   std::uint64_t taken_back_seen_ = 0;
   std::uint64_t returns_mended_seen_ = 0;
+  std::uint64_t gaps_seen_ = 0;
 };
 
 }  // namespace headingd::pipeline

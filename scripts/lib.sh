@@ -48,3 +48,23 @@ build_preset() {
     cmake --build --preset "$preset"
   fi
 }
+
+# The daemon as built at revision SHA (a full commit id of this clone), built once from the
+# revision's tree into build/baseline-SHA12 (no checkout of this clone moves); prints its path.
+baseline_daemon() {
+  local sha="$1" dir="$HEADINGD_ROOT/build/baseline-${1:0:12}"
+  local daemon="$dir/src/build/default/app/headingd"
+  if [ ! -x "$daemon" ]; then
+    echo "building headingd at ${sha:0:12} in $dir (once; log in $dir/build.log)" >&2
+    rm -rf "$dir"
+    mkdir -p "$dir/src"
+    git -C "$HEADINGD_ROOT" archive "$sha" | tar -x -C "$dir/src"
+    if ! (cd "$dir/src" && cmake --preset default && cmake --build --preset default --target headingd) \
+      >"$dir/build.log" 2>&1; then
+      tail -n 30 "$dir/build.log" >&2
+      echo "headingd: the baseline at ${sha:0:12} did not build" >&2
+      return 1
+    fi
+  fi
+  echo "$daemon"
+}
