@@ -15,21 +15,7 @@ bin="$HEADINGD_ROOT/build/default"
 data="$HEADINGD_ROOT/../shared/data"
 out="$HEADINGD_ROOT/build/bench/broad-gaps"
 mkdir -p "$out"
-rev="${1:--}"
-shift || true
-gaps=("$@")
-[ ${#gaps[@]} -eq 0 ] && gaps=(0.1 0.5 2)
-for g in "${gaps[@]}"; do
-  [[ "$g" =~ ^[0-9]+(\.[0-9]+)?$ ]] || { echo "broad_gaps: GAP_S must be a number of seconds, not '$g'" >&2; exit 64; }
-done
-binaries=("after=$bin/app/headingd")
-if [ "$rev" != "-" ]; then
-  [[ "$rev" =~ ^[0-9A-Za-z_][0-9A-Za-z._/-]*$ ]] || { echo "broad_gaps: BASELINE_REV must be a commit, not '$rev'" >&2; exit 64; }
-  sha="$(git -C "$HEADINGD_ROOT" rev-parse --verify --quiet "$rev^{commit}")" ||
-    { echo "broad_gaps: no commit '$rev' in this clone" >&2; exit 64; }
-  before="$(baseline_daemon "$sha")"
-  binaries=("before=$before" "${binaries[@]}")
-fi
+gap_bench_args broad_gaps "0.1 0.5 2" "$@"
 
 # RMSE and the share within 2 sigma of one estimate file ("rmse share").
 score() {

@@ -68,3 +68,22 @@ baseline_daemon() {
   fi
   echo "$daemon"
 }
+
+# The arguments of bench/broad_gaps.sh and bench/sim_gaps.sh: NAME, the default gaps (one string),
+# then the script's own [BASELINE_REV|-] [GAP_S...]. Sets `gaps` and `binaries` (name=daemon: the
+# daemon built here as "after", after the baseline's as "before" when a revision is named).
+gap_bench_args() {
+  local name="$1" defaults="$2" rev="${3:--}" g sha
+  shift 3 || shift $#
+  gaps=("$@")
+  [ ${#gaps[@]} -eq 0 ] && read -r -a gaps <<<"$defaults"
+  for g in "${gaps[@]}"; do
+    [[ "$g" =~ ^[0-9]+(\.[0-9]+)?$ ]] || { echo "$name: GAP_S must be a number of seconds, not '$g'" >&2; exit 64; }
+  done
+  binaries=("after=$HEADINGD_ROOT/build/default/app/headingd")
+  [ "$rev" = "-" ] && return 0
+  [[ "$rev" =~ ^[0-9A-Za-z_][0-9A-Za-z._/-]*$ ]] || { echo "$name: BASELINE_REV must be a commit, not '$rev'" >&2; exit 64; }
+  sha="$(git -C "$HEADINGD_ROOT" rev-parse --verify --quiet "$rev^{commit}")" ||
+    { echo "$name: no commit '$rev' in this clone" >&2; exit 64; }
+  binaries=("before=$(baseline_daemon "$sha")" "${binaries[@]}")
+}
