@@ -127,6 +127,7 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
                   {"bias_restarts_taken_back", std::to_string(d.recoveries_taken_back)},
                   {"bias_restarts_refused", std::to_string(d.refused_recoveries)},
                   {"returns_mended", std::to_string(d.returns_mended)},
+                  {"gaps_bridged", std::to_string(d.gaps_bridged)},
                   {"temperature_model", model},
                   {"temperature_models_refuted", std::to_string(d.refuted_models)},
                   {"motion_hint", hint_name(d.motion_hint)},

@@ -219,7 +219,7 @@ TEST(RosDiagnostics, LevelsFollowFaultsAndSigma) {
   entries = builder.build(e, learned, report, {});
   EXPECT_TRUE(has_key(entries[1], "scale_z") && has_key(entries[1], "scale_z_sigma"));
   for (const char* key : {"bias_restarts", "bias_restarts_taken_back", "bias_restarts_refused", "returns_mended",
-                          "temperature_models_refuted", "rejected_rate_changing"})
+                          "gaps_bridged", "temperature_models_refuted", "rejected_rate_changing"})
     EXPECT_TRUE(has_key(entries[1], key)) << key;
 }
 
