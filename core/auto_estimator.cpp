@@ -269,15 +269,15 @@ const Estimate& AutoEstimator::update(const Sample& reported) {
   return estimate_;
 }
 
-// A gap in the samples — an overrun that lost more than the chip's FIFO held, a
-// chip set up again after bus errors, a recording with a hole. Nothing was measured over it.
-// Integrated as an ordinary interval, the one sample after it would stand for all of it: its
-// noise times the gap's length (x and y of a still L3GD20H at 800 Hz read about 2 dps apart
-// sample to sample: 4 deg of tilt for a 2 s reset; a 0.5 s hole every 20 s in BROAD's trials
-// took auto's heading RMSE from 1-19 deg to 35-125 deg), and the segment under way would take
-// a stillness it never saw. Instead the segment ends at the gap, judged on what it has, every
-// run across it ends (the stop, the quiet run, the pair a creep test compares), and the gap is
-// integrated at the rate the samples on either side agree on, with the doubt they leave.
+// A gap in the samples — an overrun that lost more than the chip's FIFO held, a chip set up
+// again after bus errors, a recording with a hole. Nothing was measured over it. Integrated as
+// an ordinary interval, the one sample after it would stand for all of it, its noise times the
+// gap's length (a simulated still recording with a 30 s hole: the heading 3.2 deg off, the
+// attitude tilted 45 deg, for good), and the segment under way would take a stillness it never
+// saw (BROAD's trials with 0.5 s holes every 20 s: as few as 19 % of the moving samples within
+// 2 sigma; bench/broad_gaps.sh). Instead the segment ends at the gap, judged on what it has,
+// every run across it ends (the stop, the quiet run, the pair a creep test compares), and the
+// gap is integrated at the rate the samples on either side agree on, with the doubt they leave.
 namespace {
 
 // A gap is an interval this many times the samples' usual one (a time stamp's jitter stays well
