@@ -87,6 +87,8 @@ Row replay_one(const std::string& input, const std::string& output, const BatchO
       if (d.returns_mended > 0) note += " (" + std::to_string(d.returns_mended) + " back to an earlier level)";
       notes.push_back(note);
     }
+    if (d.gaps_bridged > 0)  // a fleet's recorder that loses samples shows in the table, not only in each log
+      notes.push_back(std::to_string(d.gaps_bridged) + " gaps in the samples bridged");
     if (outcome.estimator_fault) notes.push_back("estimator fault");
     for (const auto& n : notes) row.warnings += (row.warnings.empty() ? "" : "; ") + n;
     if (outcome.ending == pipeline::Ending::BadInput) row.code = kExitDataError;
