@@ -381,12 +381,19 @@ void AutoEstimator::integrate_gap(const GapSide& before, const Vec3& after_dps, 
   // x and y).
   const Vec3 change_dps = after_dps - before.rate_dps;
   const bool steady = within_gate(change_dps);
+  const bool held_still = steady && before.still;
   Sample bridge;
-  bridge.rate_dps = !steady ? Vec3(0.5 * (before.rate_dps + after_dps)) : before.still ? bias_dps() : before.rate_dps;
+  bridge.rate_dps = !steady ? Vec3(0.5 * (before.rate_dps + after_dps)) : held_still ? bias_dps() : before.rate_dps;
   history_.integrate(bridge.rate_dps.z(), gap_s);
   filters_[0].let_bias_drift(gap_s, walk_dps2_per_s_);
   filters_[1].let_bias_drift(gap_s, walk_dps2_per_s_);
-  filters_[2].propagate(rate_for_angle(bridge.rate_dps, 2), gap_s, models_.white_dps2_s()[2], walk_dps2_per_s_);
+  // Held still, the angle is held as over a still segment: no bias error is integrated into it
+  // (a suspend of hours would otherwise carry the whole walk into the sigma and, through the
+  // angle-bias covariance, let the next stop's bias move the heading by its change times hours).
+  if (held_still)
+    filters_[2].let_bias_drift(gap_s, walk_dps2_per_s_);
+  else
+    filters_[2].propagate(rate_for_angle(bridge.rate_dps, 2), gap_s, models_.white_dps2_s()[2], walk_dps2_per_s_);
   if (!steady) {
     const Vec3 bias = bias_dps();
     const double fastest_dps =

@@ -67,6 +67,21 @@ TEST(SampleGaps, AGapInAStopLeavesHeadingAndAttitudeWhereTheyWere) {
   EXPECT_LT(p.sigma_deg(), 0.5) << "a stop on both sides: nothing to doubt";
 }
 
+TEST(SampleGaps, AnHourUnseenInAStopKeepsTheStopsSigma) {
+  // A suspend, a recorder paused: the angle is held as over a stop, and the bias walk over the
+  // hour goes into the bias's variance, not into the heading's.
+  Platform p;
+  p.run(60.0, 0.0);
+  const double sigma_before = p.sigma_deg();
+  p.gap(3600.0, 0.0);
+  p.run(1.0, 0.0);
+  EXPECT_LT(std::abs(p.error_deg()), 0.1);
+  EXPECT_LT(p.sigma_deg(), sigma_before + 0.05);
+  EXPECT_GT(p.estimator().last().bias_sigma_dps.z(), 0.005) << "the bias may have walked meanwhile";
+  p.run(60.0, 0.0);
+  EXPECT_LT(std::abs(p.error_deg()), 0.1) << "and the next stop's bias does not move the held heading";
+}
+
 TEST(SampleGaps, ATurnThatGoesOnThroughAGapIsIntegratedAtItsRate) {
   Platform p;
   p.run(30.0, 0.0);
