@@ -9,6 +9,7 @@
 #include <map>
 #include <thread>
 
+#include "io/companion_file.hpp"
 #include "io/csv_out.hpp"
 #include "io/csv_replay.hpp"
 #include "io/input_error.hpp"
@@ -127,13 +128,27 @@ std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs) {
   for (const auto& input : inputs) {
     std::error_code error;
     if (fs::is_directory(input, error)) {
-      std::vector<std::string> found;
+      std::vector<std::string> found, skipped;
       // A link counts even when it leads nowhere: its row then says so, and the exit code with it,
       // where skipping it would have left a vehicle out of the table without a word.
       for (const auto& entry : fs::directory_iterator(input, error)) {
         std::error_code kind_error;
         const bool file_or_link = entry.is_regular_file(kind_error) || entry.is_symlink(kind_error);
-        if (file_or_link && is_recording_name(entry.path().filename().string())) found.push_back(entry.path().string());
+        if (!file_or_link || !is_recording_name(entry.path().filename().string())) continue;
+        // A simulation's truth.csv beside its imu.csv, a batch table written into the fleet's
+        // directory: not recordings, left out and named (a file named on the command line is not).
+        if (const auto kind = drivers::companion_kind(entry.path().string())) {
+          skipped.push_back(drivers::printable(entry.path().filename().string(), 200) + " (" + *kind + ")");
+          continue;
+        }
+        found.push_back(entry.path().string());
+      }
+      if (!skipped.empty()) {
+        std::sort(skipped.begin(), skipped.end());
+        std::string names;
+        for (const auto& s : skipped) names += (names.empty() ? "" : ", ") + s;
+        std::fprintf(stderr, "headingd: %s: left out, not recordings: %s\n", drivers::printable(input, 200).c_str(),
+                     names.c_str());
       }
       if (error) {
         std::fprintf(stderr, "headingd: cannot list %s: %s\n", input.c_str(), error.message().c_str());

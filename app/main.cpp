@@ -170,8 +170,16 @@ int main(int argc, char** argv) {
   }
 
   if (replay_cmd->parsed()) {
-    const bool many = replay_inputs.size() > 1 || std::filesystem::is_directory(replay_inputs.front()) ||
-                      jobs_option->count() > 0 || output_dir_option->count() > 0 || summary_option->count() > 0;
+    const bool batch_options =
+        jobs_option->count() > 0 || output_dir_option->count() > 0 || summary_option->count() > 0;
+    // A directory holding one recording (what `simulate --output-dir` writes, beside its truth) is
+    // that recording: -o, --plot and publishing apply to it as to the file itself.
+    if (replay_inputs.size() == 1 && std::filesystem::is_directory(replay_inputs.front()) && !batch_options) {
+      const std::vector<std::string> found = app::expand_inputs(replay_inputs);
+      if (found.empty()) return app::kExitNoInput;
+      replay_inputs = found;
+    }
+    const bool many = replay_inputs.size() > 1 || std::filesystem::is_directory(replay_inputs.front()) || batch_options;
     if (many) {
       if (!replay_plot.empty() || replay.output != "-") {
         std::fprintf(

@@ -60,3 +60,21 @@ out=$("$headingd" replay fleet/vehicle1.csv other/vehicle1.csv --output-dir outs
 out=$("$headingd" replay fleet missing.csv 2>&1); rc=$?
 [ "$rc" -eq 66 ] && grep -q "missing.csv" <<<"$out" || fail "missing input: exit $rc: $out"
 echo "ok: colliding outputs refused (64) before any work; a missing input 66"
+
+# What `simulate` writes is a directory with one recording beside its truth: replayed as that
+# recording (-o applies), the truth named as left out. A fleet directory that holds its own batch
+# table and truth files: those are left out, a recording with a damaged header is not.
+"$headingd" replay --no-dds s6 -o dir.csv 2>dir.log || fail "a simulation's directory: $(cat dir.log)"
+grep -q "s6: left out, not recordings: truth.csv (a truth file)" dir.log || fail "truth not named: $(cat dir.log)"
+"$headingd" replay --no-dds s6/imu.csv -o file.csv 2>/dev/null && cmp -s dir.csv file.csv ||
+  fail "the directory's estimates differ from its recording's"
+cp s1/truth.csv fleet/vehicle1-truth.csv && cp table.csv fleet/table.csv
+printf 'tme_s,gx,gy,gz\n0,0,0,0\n' >fleet/garbled.csv
+"$headingd" replay fleet --jobs 2 >table4.txt 2>err; rc=$?
+grep -q "left out, not recordings: table.csv (a replay summary table), vehicle1-truth.csv (a truth file)" err ||
+  fail "companions not named: $(cat err)"
+[ "$rc" -eq 65 ] && grep -q "^fleet/garbled.csv .*missing column" table4.txt &&
+  [ "$(grep -c '^fleet/' table4.txt)" -eq 6 ] || fail "companions or a damaged header: exit $rc: $(cat table4.txt err)"
+"$headingd" replay --no-dds fleet/vehicle1-truth.csv -o t.csv 2>err; rc=$?
+[ "$rc" -eq 65 ] && grep -q "missing column 'gx_dps'" err || fail "a truth file named on its own: exit $rc: $(cat err)"
+echo "ok: a simulation's directory replays as its recording; truth files and a batch table left out and named; a damaged header and a named truth file still fail"

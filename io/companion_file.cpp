@@ -1,0 +1,56 @@
+#include "io/companion_file.hpp"
+
+#include <string_view>
+
+#include "io/input_error.hpp"
+#include "io/line_reader.hpp"
+#include "io/native_csv.hpp"
+#include "io/text_fields.hpp"
+
+namespace headingd::drivers {
+namespace {
+
+bool has_column(const Fields& header, std::string_view name) {
+  for (std::size_t i = 0; i < header.count; ++i)
+    if (trim(header.items[i]) == name) return true;
+  return false;
+}
+
+std::optional<std::string> kind_of_header(const Fields& header) {
+  for (const auto rate : app::kNativeRateColumns)
+    if (has_column(header, rate)) return std::nullopt;
+  // The columns each kind is written with (tools/simulate_command, io/estimates_writer,
+  // tools/score_command, app/batch_replay); BROAD's truth files carry `moving` as ours do.
+  if (has_column(header, "moving")) return "a truth file";
+  if (has_column(header, "heading_deg")) return "an estimates file";
+  if (has_column(header, "error_deg")) return "an error series (score --errors)";
+  if (has_column(header, "file") && has_column(header, "estimates")) return "a replay summary table";
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<std::string> companion_kind(const std::string& path) {
+  try {
+    LineReader lines(path);
+    std::string_view line;
+    while (lines.next(line)) {
+      const auto text = trim(line);
+      lines.count_line(!text.empty() && text.front() != '#');
+      if (text.empty()) continue;
+      if (text.front() == '#') {
+        // An EuRoC header is a comment line: a recording.
+        if (trim(text.substr(1)).starts_with("timestamp")) return std::nullopt;
+        continue;
+      }
+      Fields header;
+      split_fields(text, ',', header);
+      return kind_of_header(header);
+    }
+  } catch (const OpenError&) {
+  } catch (const InputError&) {
+  }
+  return std::nullopt;  // the replay reports what stopped this read
+}
+
+}  // namespace headingd::drivers
