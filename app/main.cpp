@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
   replay_cmd
       ->add_option("input", replay_inputs,
                    "Recording(s): headingd CSV or EuRoC/ASL imu.csv, plain, .zst or .gz; several, or a directory: "
-                   "each on its own, one summary table")
+                   "each on its own, one summary table; '-' = standard input (one recording, plain or compressed)")
       ->required();
   app::BatchOptions batch;
   auto* jobs_option = replay_cmd->add_option("--jobs", batch.jobs, "With several recordings: how many at once");
@@ -192,7 +192,8 @@ int main(int argc, char** argv) {
       if (const int code = app::batch_settings(replay.config_path, replay.method, batch.settings)) return code;
       return app::run_batch_replay(batch);
     }
-    replay.input = replay_inputs.front();
+    replay.input =
+        replay_inputs.front() == "-" ? std::string("/dev/stdin") : replay_inputs.front();  // `zstdcat … | replay -`
     if (!replay_plot.empty() && replay.output == "-") {
       std::fprintf(stderr, "headingd: replay --plot needs the estimates in a file: add -o FILE\n");
       return app::kExitUsage;

@@ -19,7 +19,9 @@ for f in imu.csv.zst imu.csv.gz imu-named-plainly.csv; do
   "$headingd" replay --no-dds "$dir/$f" --output-rate 0 -o "$dir/$f.est" --quiet 2>"$dir/err" || fail "replay $f: $(cat "$dir/err")"
   cmp -s "$dir/plain.est" "$dir/$f.est" || fail "$f replays differently from the plain file"
 done
-echo "ok: zstd and gzip recordings (made by the zstd and gzip programs) replay byte for byte as the plain one ($(($(wc -l <"$dir/plain.est") - 1)) rows)"
+"$headingd" replay --no-dds - --output-rate 0 -o "$dir/pipe.est" --quiet <"$dir/imu.csv.zst" 2>"$dir/err" &&
+  cmp -s "$dir/plain.est" "$dir/pipe.est" || fail "a .zst on standard input ('-') replays differently: $(cat "$dir/err")"
+echo "ok: zstd and gzip recordings (made by the zstd and gzip programs) replay byte for byte as the plain one, from a file or on standard input ($(($(wc -l <"$dir/plain.est") - 1)) rows)"
 
 "$headingd" allan "$plain" --axis z >"$dir/allan.plain" 2>&1 || fail "allan plain"
 "$headingd" allan "$dir/imu.csv.gz" --axis z >"$dir/allan.gz" 2>&1 || fail "allan gz"
