@@ -89,7 +89,11 @@ int main(int argc, char** argv) {
   app::ScoreOptions score;
   auto* score_cmd = cli.add_subcommand("score", "Score an estimates CSV against a truth CSV (paper's metrics)");
   score_cmd->add_option("estimates", score.estimates, "Estimates CSV from replay")->required();
-  score_cmd->add_option("truth", score.truth, "truth.csv from simulate")->required();
+  score_cmd
+      ->add_option(
+          "truth", score.truth,
+          "truth.csv from simulate, or an orientation truth (time_s,qw,qx,qy,qz[,moving]: motion capture, BROAD)")
+      ->required();
   score_cmd->add_option("--label", score.label, "Row label (default: the estimates file's name)");
   score_cmd->add_option("--errors", score.errors_output, "Write time_h,error_deg at 1 Hz to this file");
   score_cmd->add_flag("--header", score.header, "Print the table header first");

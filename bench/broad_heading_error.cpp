@@ -1,6 +1,7 @@
 // Heading error on the BROAD recording as its data README defines it: the rotation angle
-// about the vertical of q_true * q_est^-1 (earth frame), the estimate aligned to the true
-// orientation at the first valid sample, RMSE over the samples the dataset marks as moving.
+// about the vertical of q_true * q_est^-1 (earth frame, tools/orientation_score, which
+// `headingd score` uses too), the estimate aligned to the true orientation at the first valid
+// sample, RMSE over the samples the dataset marks as moving.
 // Also integrates the raw gyro twice for reference: with no bias removal, and with the bias
 // taken by hand as the mean of the first rest, and the turn each axis made about the vertical
 // (from the truth). For estimates with a heading sigma, the share of
@@ -19,6 +20,7 @@
 #include "core/units.hpp"
 #include "io/csv_replay.hpp"
 #include "io/text_fields.hpp"
+#include "tools/orientation_score.hpp"
 
 using namespace headingd;
 using Quat = Eigen::Quaterniond;
@@ -78,13 +80,6 @@ std::map<long long, Quat> read_estimates(const std::string& path, std::map<long 
   return rows;
 }
 
-double heading_error_deg(const Quat& truth, const Quat& estimate) {
-  const Quat e = truth * estimate.inverse();
-  double angle = 2.0 * std::atan2(e.z(), e.w());  // twist about the earth's vertical
-  angle = std::remainder(angle, 2.0 * M_PI);
-  return core::rad_to_deg(angle);
-}
-
 // Calls `use(key, heading error)` for each sample the dataset marks as moving, the estimate
 // aligned to the truth at the first valid sample.
 template <typename Use>
@@ -98,7 +93,7 @@ void for_each_moving_error(const std::vector<TruthRow>& truth, const std::map<lo
       align = row.q * it->second.inverse();
       aligned = true;
     }
-    if (row.moving) use(it->first, heading_error_deg(row.q, align * it->second));
+    if (row.moving) use(it->first, app::heading_twist_deg(row.q, align * it->second));
   }
 }
 

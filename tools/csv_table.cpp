@@ -9,6 +9,23 @@
 
 namespace headingd::app {
 
+std::vector<std::string> header_columns(const std::string& path) {
+  drivers::LineReader lines(path);
+  std::string_view line;
+  while (lines.next(line)) {
+    const auto text = drivers::trim(line);
+    const bool content = !text.empty() && text.front() != '#';
+    lines.count_line(content);
+    if (!content) continue;
+    drivers::Fields fields;
+    drivers::split_fields(text, ',', fields);
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < fields.count; ++i) names.emplace_back(drivers::trim(fields.items[i]));
+    return names;
+  }
+  lines.fail("no header line");
+}
+
 std::vector<std::vector<double>> read_table(const std::string& path, const std::vector<std::string>& names,
                                             const TableOptions& options) {
   drivers::LineReader lines(path);
@@ -53,7 +70,8 @@ std::vector<std::vector<double>> read_table(const std::string& path, const std::
     for (std::size_t k = 1; k < names.size(); ++k) {
       const auto field = drivers::trim(fields.items[*index[k]]);
       const auto value = drivers::parse_double(field);
-      if (!value && !(options.empty_is_nan && field.empty()))
+      const bool nan_text = options.nan_text_is_nan && (field == "nan" || field == "NaN" || field == "NAN");
+      if (!value && !(options.empty_is_nan && field.empty()) && !nan_text)
         lines.fail("'" + names[k] + "' is not a finite number: '" + drivers::printable(text, 80) + "'");
       columns[k].push_back(value ? *value : std::numeric_limits<double>::quiet_NaN());
     }

@@ -8,9 +8,13 @@
 namespace headingd::app {
 
 struct TableOptions {
-  std::size_t every = 1;      // keep every n-th row (plots of long files)
-  bool empty_is_nan = false;  // an empty field is NaN (a recording without temperature), else an error
+  std::size_t every = 1;         // keep every n-th row (plots of long files)
+  bool empty_is_nan = false;     // an empty field is NaN (a recording without temperature), else an error
+  bool nan_text_is_nan = false;  // "nan" is NaN (motion capture that lost track), else an error
 };
+
+// The names in the header line (trimmed). Throws drivers::InputError/OpenError.
+std::vector<std::string> header_columns(const std::string& path);
 
 // columns[0] is the time column, which must advance; returns one vector per name.
 std::vector<std::vector<double>> read_table(const std::string& path, const std::vector<std::string>& names,

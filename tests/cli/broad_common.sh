@@ -10,6 +10,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 [ -d "$data/broad-05" ] || { echo "SKIP: no $data/broad-05"; exit 77; }
 
 # check_ratio LABEL IMU TRUTH REFERENCE_LINE MAX [MIN_WITHIN]: replays IMU with auto, scores it,
+# checks that `headingd score` reads the same figures off the same estimates (with MIN_WITHIN),
 # and fails if auto's heading RMSE over the reference (the figure on the scorer's line matching
 # REFERENCE_LINE) is above MAX, or, given MIN_WITHIN, if fewer than that percentage of the moving
 # samples lie within auto's own 2 sigma.
@@ -27,6 +28,13 @@ check_ratio() {
   [ -n "$min_within" ] || return 0
   within=$(sed -n 's/.*headingd auto .*2 sigma on \([0-9.]*\) %.*/\1/p' <<<"$out")
   [ -n "$within" ] || fail "$label: no share within 2 sigma in: $out"
+  # `headingd score` against the same orientation truth gives the same moving RMSE and share.
+  local scored scored_rms scored_within
+  scored=$("$headingd" score "$dir/est.csv" "$truth" --label est 2>&1) || fail "$label: headingd score: $scored"
+  scored_rms=$(awk '$1 == "est" && $2 == "moving" { print $5 }' <<<"$scored")
+  scored_within=$(sed -n 's/.*, \([0-9.]*\) % of the [0-9]* moving$/\1/p' <<<"$scored")
+  [ "$scored_rms $scored_within" = "$auto $within" ] ||
+    fail "$label: headingd score says RMSE '$scored_rms', within '$scored_within'; the scorer $auto, $within: $scored"
   echo "$label: $within % of the moving samples within 2 sigma (at least $min_within)"
   awk -v x="$within" -v m="$min_within" 'BEGIN { exit !(x >= m) }' ||
     fail "$label: only $within % within 2 sigma, below $min_within"

@@ -1,0 +1,103 @@
+#include "tools/orientation_score.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/units.hpp"
+#include "tools/csv_table.hpp"
+
+namespace headingd::app {
+namespace {
+
+using Quat = Eigen::Quaterniond;
+
+constexpr double kSameTimeS = 1e-6;  // rows written with microseconds (or finer) meet within this
+
+struct QuatSeries {
+  std::vector<double> t_s;
+  std::vector<Quat> q;
+  std::vector<bool> valid;
+};
+
+QuatSeries quaternions(const std::vector<std::vector<double>>& columns) {
+  QuatSeries series;
+  series.t_s = columns[0];
+  for (std::size_t i = 0; i < series.t_s.size(); ++i) {
+    const Quat q(columns[1][i], columns[2][i], columns[3][i], columns[4][i]);
+    const bool valid = q.coeffs().allFinite() && q.norm() > 0.5;  // lost tracking, or not a rotation
+    series.q.push_back(valid ? q.normalized() : Quat::Identity());
+    series.valid.push_back(valid);
+  }
+  return series;
+}
+
+}  // namespace
+
+double heading_twist_deg(const Quat& truth, const Quat& estimate) {
+  const Quat e = truth * estimate.inverse();
+  return core::rad_to_deg(std::remainder(2.0 * std::atan2(e.z(), e.w()), 2.0 * M_PI));
+}
+
+bool is_orientation_truth(const std::string& truth_path) {
+  const auto names = header_columns(truth_path);
+  const auto has = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+  return has("qw") && has("qx") && has("qy") && has("qz");
+}
+
+OrientationScore score_orientation(const std::string& estimates_path, const std::string& truth_path,
+                                   double max_truth_gap_s) {
+  OrientationScore score;
+  const auto truth_names = header_columns(truth_path);
+  score.has_moving = std::find(truth_names.begin(), truth_names.end(), "moving") != truth_names.end();
+  TableOptions nan_allowed;
+  nan_allowed.nan_text_is_nan = true;
+  nan_allowed.empty_is_nan = true;
+  std::vector<std::string> wanted = {"time_s", "qw", "qx", "qy", "qz"};
+  if (score.has_moving) wanted.emplace_back("moving");
+  const auto truth_columns = read_table(truth_path, wanted, nan_allowed);
+  const QuatSeries truth = quaternions(truth_columns);
+  const auto estimate_columns =
+      read_table(estimates_path, {"time_s", "qw", "qx", "qy", "qz", "heading_sigma_deg"}, nan_allowed);
+  const QuatSeries estimate = quaternions(estimate_columns);
+  const std::vector<double>& sigma = estimate_columns[5];
+  if (truth.t_s.empty()) return score;
+
+  bool aligned = false;
+  Quat align = Quat::Identity();
+  std::size_t k = 0;  // the truth row at or before the estimate's time
+  for (std::size_t i = 0; i < estimate.t_s.size(); ++i) {
+    const double t = estimate.t_s[i];
+    if (!estimate.valid[i] || t < truth.t_s.front() - kSameTimeS || t > truth.t_s.back() + kSameTimeS) continue;
+    while (k + 1 < truth.t_s.size() && truth.t_s[k + 1] <= t + kSameTimeS) ++k;
+    Quat q_true;
+    std::size_t nearer = k;
+    if (std::abs(truth.t_s[k] - t) <= kSameTimeS) {
+      if (!truth.valid[k]) continue;
+      q_true = truth.q[k];
+    } else {
+      if (k + 1 >= truth.t_s.size() || !truth.valid[k] || !truth.valid[k + 1] ||
+          truth.t_s[k + 1] - truth.t_s[k] > max_truth_gap_s)
+        continue;  // no truth close enough on both sides: not scored rather than guessed
+      const double w = (t - truth.t_s[k]) / (truth.t_s[k + 1] - truth.t_s[k]);
+      q_true = truth.q[k].slerp(w, truth.q[k + 1]);
+      if (w > 0.5) nearer = k + 1;
+    }
+    if (!aligned) {
+      align = q_true * estimate.q[i].inverse();
+      aligned = true;
+    }
+    const double error = heading_twist_deg(q_true, align * estimate.q[i]);
+    const bool inside = std::abs(error) <= 2.0 * sigma[i];
+    score.has_sigma = score.has_sigma && std::isfinite(sigma[i]);
+    score.all.add(t, error);
+    score.within_2sigma += inside;
+    score.errors.emplace_back(t, error);
+    if (score.has_moving && truth_columns[5][nearer] > 0.5) {
+      score.moving.add(t, error);
+      score.moving_within_2sigma += inside;
+    }
+  }
+  return score;
+}
+
+}  // namespace headingd::app

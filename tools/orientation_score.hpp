@@ -1,0 +1,35 @@
+#pragma once
+// Heading error against an orientation truth (motion capture: time_s,qw,qx,qy,qz[,moving], as the
+// BROAD recordings carry it, "nan" where tracking was lost), defined as BROAD's README defines it:
+// the rotation angle about the earth's vertical of q_true * q_est^-1, the estimate aligned to the
+// truth at the first instant both have. The estimates' own attitude is what is scored, so a tilt
+// integrated wrongly shows as the heading error it causes.
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "core/heading_metrics.hpp"
+
+namespace headingd::app {
+
+// The twist about the earth's z axis (deg, in [-180, 180]) of truth * estimate^-1.
+double heading_twist_deg(const Eigen::Quaterniond& truth, const Eigen::Quaterniond& estimate);
+
+struct OrientationScore {
+  core::HeadingMetrics all, moving;  // `moving`: the rows the truth marks as moving
+  bool has_moving = false;           // the truth has a `moving` column
+  std::uint64_t within_2sigma = 0, moving_within_2sigma = 0;
+  bool has_sigma = true;                          // every scored row carried a finite heading sigma
+  std::vector<std::pair<double, double>> errors;  // (t_s, error_deg) at each scored row
+};
+
+// True when the file's header names qw, qx, qy and qz. Throws drivers::InputError/OpenError.
+bool is_orientation_truth(const std::string& truth_path);
+
+// Scores the estimates (time_s,qw,qx,qy,qz,heading_sigma_deg) at each of their rows inside the
+// truth's span, the truth interpolated (slerp) between its two rows around it when both are valid
+// and at most `max_truth_gap_s` apart; other rows are skipped. Throws drivers::InputError/OpenError.
+OrientationScore score_orientation(const std::string& estimates_path, const std::string& truth_path,
+                                   double max_truth_gap_s = 0.1);
+
+}  // namespace headingd::app
