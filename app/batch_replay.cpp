@@ -123,45 +123,67 @@ std::string number(double value, const char* format) {
 
 }  // namespace
 
-std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs) {
-  std::vector<std::string> files;
+namespace {
+
+// One directory's recordings, sorted; false after saying why when it cannot be read.
+bool list_directory(const std::string& input, bool recursive, std::vector<FoundRecording>& files) {
+  std::vector<FoundRecording> found;
+  std::vector<std::string> skipped;
+  std::error_code error;
+  const auto take = [&](const fs::directory_entry& entry) {
+    // A link counts even when it leads nowhere: its row then says so, and the exit code with it,
+    // where skipping it would have left a vehicle out of the table without a word.
+    std::error_code kind_error;
+    const bool file_or_link = entry.is_regular_file(kind_error) || entry.is_symlink(kind_error);
+    if (!file_or_link || !is_recording_name(entry.path().filename().string())) return;
+    const std::string relative = entry.path().lexically_relative(input).string();
+    // A simulation's truth.csv beside its imu.csv, a batch table written into the fleet's
+    // directory: not recordings, left out and named (a file named on the command line is not).
+    if (const auto kind = drivers::companion_kind(entry.path().string())) {
+      skipped.push_back(drivers::printable(relative, 200) + " (" + *kind + ")");
+      return;
+    }
+    found.push_back({entry.path().string(), entry.path().lexically_relative(input).parent_path().string()});
+  };
+  if (recursive) {
+    fs::recursive_directory_iterator it(input, error), end;
+    for (; !error && it != end; it.increment(error)) take(*it);
+  } else {
+    fs::directory_iterator it(input, error), end;
+    for (; !error && it != end; it.increment(error)) take(*it);
+  }
+  if (error) {
+    std::fprintf(stderr, "headingd: cannot list %s: %s\n", drivers::printable(input, 200).c_str(),
+                 error.message().c_str());
+    return false;
+  }
+  if (!skipped.empty()) {
+    std::sort(skipped.begin(), skipped.end());
+    std::string names;
+    for (const auto& name : skipped) names += (names.empty() ? "" : ", ") + name;
+    std::fprintf(stderr, "headingd: %s: left out, not recordings: %s\n", drivers::printable(input, 200).c_str(),
+                 names.c_str());
+  }
+  if (found.empty()) {
+    std::fprintf(stderr, "headingd: no recordings (*.csv, *.csv.zst, *.csv.gz) in %s%s\n",
+                 drivers::printable(input, 200).c_str(), recursive ? " or below it" : "");
+    return false;
+  }
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
+  files.insert(files.end(), found.begin(), found.end());
+  return true;
+}
+
+}  // namespace
+
+std::vector<FoundRecording> expand_inputs(const std::vector<std::string>& inputs, bool recursive) {
+  std::vector<FoundRecording> files;
   for (const auto& input : inputs) {
     std::error_code error;
     if (fs::is_directory(input, error)) {
-      std::vector<std::string> found, skipped;
-      // A link counts even when it leads nowhere: its row then says so, and the exit code with it,
-      // where skipping it would have left a vehicle out of the table without a word.
-      for (const auto& entry : fs::directory_iterator(input, error)) {
-        std::error_code kind_error;
-        const bool file_or_link = entry.is_regular_file(kind_error) || entry.is_symlink(kind_error);
-        if (!file_or_link || !is_recording_name(entry.path().filename().string())) continue;
-        // A simulation's truth.csv beside its imu.csv, a batch table written into the fleet's
-        // directory: not recordings, left out and named (a file named on the command line is not).
-        if (const auto kind = drivers::companion_kind(entry.path().string())) {
-          skipped.push_back(drivers::printable(entry.path().filename().string(), 200) + " (" + *kind + ")");
-          continue;
-        }
-        found.push_back(entry.path().string());
-      }
-      if (!skipped.empty()) {
-        std::sort(skipped.begin(), skipped.end());
-        std::string names;
-        for (const auto& s : skipped) names += (names.empty() ? "" : ", ") + s;
-        std::fprintf(stderr, "headingd: %s: left out, not recordings: %s\n", drivers::printable(input, 200).c_str(),
-                     names.c_str());
-      }
-      if (error) {
-        std::fprintf(stderr, "headingd: cannot list %s: %s\n", input.c_str(), error.message().c_str());
-        return {};
-      }
-      if (found.empty()) {
-        std::fprintf(stderr, "headingd: no recordings (*.csv, *.csv.zst, *.csv.gz) in %s\n", input.c_str());
-        return {};
-      }
-      std::sort(found.begin(), found.end());
-      files.insert(files.end(), found.begin(), found.end());
+      if (!list_directory(input, recursive, files)) return {};
     } else if (fs::exists(input, error)) {
-      files.push_back(input);
+      files.push_back({input, ""});
     } else {
       std::fprintf(stderr, "headingd: cannot open %s: No such file or directory\n", input.c_str());
       return {};
@@ -170,15 +192,16 @@ std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs) {
   return files;
 }
 
-std::string estimates_path_for(const std::string& input, const std::optional<std::string>& output_dir) {
-  const fs::path path(input);
+std::string estimates_path_for(const FoundRecording& input, const std::optional<std::string>& output_dir) {
+  const fs::path path(input.path);
   std::string name = path.filename().string();
   for (const char* ending : {".zst", ".gz", ".csv"}) {
     const std::string e = ending;
     if (name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0)
       name.resize(name.size() - e.size());
   }
-  return ((output_dir ? fs::path(*output_dir) : path.parent_path()) / (name + ".estimates.csv")).string();
+  const fs::path dir = output_dir ? fs::path(*output_dir) / input.under : path.parent_path();
+  return (dir / (name + ".estimates.csv")).string();
 }
 
 int batch_settings(const std::optional<std::string>& config_path, const std::optional<std::string>& method,
@@ -193,7 +216,7 @@ int batch_settings(const std::optional<std::string>& config_path, const std::opt
 }
 
 int run_batch_replay(const BatchOptions& options) {
-  const std::vector<std::string> files = expand_inputs(options.inputs);
+  const std::vector<FoundRecording> files = expand_inputs(options.inputs, options.recursive);
   if (files.empty()) {
     if (!options.inputs.empty()) return kExitNoInput;
     std::fprintf(stderr, "headingd: replay: no recordings\n");
@@ -203,30 +226,33 @@ int run_batch_replay(const BatchOptions& options) {
   std::map<std::string, std::string> outputs;
   for (const auto& f : files) {
     const std::string out = estimates_path_for(f, options.output_dir);
-    if (const auto [it, fresh] = outputs.emplace(out, f); !fresh) {
+    if (const auto [it, fresh] = outputs.emplace(out, f.path); !fresh) {
       std::fprintf(stderr, "headingd: %s and %s would both write %s; give distinct names or no --output-dir\n",
-                   it->second.c_str(), f.c_str(), out.c_str());
+                   it->second.c_str(), f.path.c_str(), out.c_str());
       return kExitUsage;
     }
   }
   if (options.output_dir) {
-    std::error_code error;
-    fs::create_directories(*options.output_dir, error);
-    if (error) {
-      std::fprintf(stderr, "headingd: cannot create %s: %s\n", options.output_dir->c_str(), error.message().c_str());
-      return kExitCantCreate;
+    for (const auto& [out, file] : outputs) {  // the output directory, and the folders below it
+      std::error_code error;
+      const fs::path dir = fs::path(out).parent_path();
+      fs::create_directories(dir, error);
+      if (error) {
+        std::fprintf(stderr, "headingd: cannot create %s: %s\n", dir.c_str(), error.message().c_str());
+        return kExitCantCreate;
+      }
     }
   }
   install_stop_signals();
   std::vector<Row> rows(files.size());
   for (std::size_t i = 0; i < files.size(); ++i) {  // what a signal leaves undone says so
-    rows[i].file = files[i];
+    rows[i].file = files[i].path;
     rows[i].warnings = "not replayed: stopped by a signal";
   }
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
     for (std::size_t i = next++; i < files.size() && !stop_flag().load(); i = next++)
-      rows[i] = replay_one(files[i], estimates_path_for(files[i], options.output_dir), options);
+      rows[i] = replay_one(files[i].path, estimates_path_for(files[i], options.output_dir), options);
   };
   std::vector<std::thread> workers;
   const unsigned jobs = std::clamp<unsigned>(options.jobs, 1, static_cast<unsigned>(files.size()));

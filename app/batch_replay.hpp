@@ -12,19 +12,30 @@ namespace headingd::app {
 
 struct BatchOptions {
   std::vector<std::string> inputs;  // files, or directories (their *.csv, *.csv.zst, *.csv.gz)
+  bool recursive = false;           // directories read at every depth, not one level
   unsigned jobs = 1;
-  std::optional<std::string> output_dir;   // estimates go here; default: beside each recording
+  std::optional<std::string> output_dir;   // estimates go here (below it, the path under a directory
+                                           // named); default: beside each recording
   std::optional<std::string> summary_csv;  // the table as CSV too
   core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
   double output_rate_hz = 10.0;
 };
 
-// The recordings `inputs` names, in order, directories expanded (sorted); empty after saying
-// why on stderr when one is missing or unreadable.
-std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs);
+// A recording to replay, and the folders between the directory named and it ("" for a file named,
+// or one found at the directory's top): with --output-dir its estimates go there, below it.
+struct FoundRecording {
+  std::string path;
+  std::string under;
+};
 
-// Where a recording's estimates go: <dir>/<name without .zst/.gz/.csv>.estimates.csv.
-std::string estimates_path_for(const std::string& input, const std::optional<std::string>& output_dir);
+// The recordings `inputs` names, in order, directories expanded (sorted; at every depth when
+// `recursive`, links to directories not followed); empty after saying why on stderr when one
+// is missing or unreadable.
+std::vector<FoundRecording> expand_inputs(const std::vector<std::string>& inputs, bool recursive = false);
+
+// Where a recording's estimates go: <dir>/<name without .zst/.gz/.csv>.estimates.csv, dir being
+// the recording's own, or the output directory with the recording's `under` below it.
+std::string estimates_path_for(const FoundRecording& input, const std::optional<std::string>& output_dir);
 
 // The estimator settings from --config and --method; 0, or the exit code after saying why.
 int batch_settings(const std::optional<std::string>& config_path, const std::optional<std::string>& method,

@@ -58,7 +58,10 @@ int main(int argc, char** argv) {
   app::BatchOptions batch;
   auto* jobs_option = replay_cmd->add_option("--jobs", batch.jobs, "With several recordings: how many at once");
   auto* output_dir_option =
-      replay_cmd->add_option("--output-dir", batch.output_dir, "With several recordings: estimates go here");
+      replay_cmd->add_option("--output-dir", batch.output_dir,
+                             "With several recordings: estimates go here (with -r, in the folders they were found in)");
+  replay_cmd->add_flag("-r,--recursive", batch.recursive,
+                       "Directories: their recordings at every depth, not one level");
   auto* summary_option =
       replay_cmd->add_option("--summary-csv", batch.summary_csv, "With several recordings: the table as CSV too");
   replay_cmd->add_option("--method", replay.method, "Bias method: auto (default), or the paper's a, b, c");
@@ -179,9 +182,10 @@ int main(int argc, char** argv) {
     // A directory holding one recording (what `simulate --output-dir` writes, beside its truth) is
     // that recording: -o, --plot and publishing apply to it as to the file itself.
     if (replay_inputs.size() == 1 && std::filesystem::is_directory(replay_inputs.front()) && !batch_options) {
-      const std::vector<std::string> found = app::expand_inputs(replay_inputs);
+      const std::vector<app::FoundRecording> found = app::expand_inputs(replay_inputs, batch.recursive);
       if (found.empty()) return app::kExitNoInput;
-      replay_inputs = found;
+      replay_inputs.clear();
+      for (const auto& f : found) replay_inputs.push_back(f.path);
     }
     const bool many = replay_inputs.size() > 1 || std::filesystem::is_directory(replay_inputs.front()) || batch_options;
     if (many) {

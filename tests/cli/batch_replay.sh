@@ -78,3 +78,22 @@ grep -q "left out, not recordings: table.csv (a replay summary table), vehicle1-
 "$headingd" replay --no-dds fleet/vehicle1-truth.csv -o t.csv 2>err; rc=$?
 [ "$rc" -eq 65 ] && grep -q "missing column 'gx_dps'" err || fail "a truth file named on its own: exit $rc: $(cat err)"
 echo "ok: a simulation's directory replays as its recording; truth files and a batch table left out and named; a damaged header and a named truth file still fail"
+
+# A fleet's archive, folders by vehicle and day, every recording named imu.csv: with -r all are
+# found (a link back up the tree not followed), and under --output-dir each estimates file keeps
+# its folders, so the same names do not collide.
+for v in 1 2; do for d in 1 2; do
+  i=$((v + d - 1)) && mkdir -p "archive/vehicle-$v/day-$d" && cp "fleet/vehicle$i.csv" "archive/vehicle-$v/day-$d/imu.csv" &&
+    cp "s$i/truth.csv" "archive/vehicle-$v/day-$d/"
+done; done
+ln -s .. archive/vehicle-1/up
+"$headingd" replay archive -r --jobs 2 --output-dir arch-out >table5.txt 2>err || fail "-r: $(cat table5.txt err)"
+[ "$(grep -c '^archive/vehicle-[12]/day-[12]/imu.csv ' table5.txt)" -eq 4 ] && [ "$(grep -c '^archive' table5.txt)" -eq 4 ] ||
+  fail "-r: expected the four recordings once each: $(cat table5.txt)"
+grep -q "vehicle-2/day-1/truth.csv (a truth file)" err || fail "-r: nested truth files not named: $(cat err)"
+"$headingd" replay --no-dds archive/vehicle-2/day-1/imu.csv -o single.csv 2>/dev/null &&
+  cmp -s single.csv arch-out/vehicle-2/day-1/imu.estimates.csv || fail "-r: arch-out/vehicle-2/day-1 differs"
+[ "$(find arch-out -name '*.estimates.csv' | wc -l)" -eq 4 ] || fail "-r: $(find arch-out)"
+out=$("$headingd" replay archive --output-dir flat 2>&1); rc=$?
+[ "$rc" -eq 66 ] && grep -q "no recordings .* in archive$" <<<"$out" || fail "without -r: exit $rc: $out"
+echo "ok: -r finds a fleet archive's recordings at every depth, estimates under --output-dir keep their folders"
