@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/units.hpp"
 #include "tools/csv_table.hpp"
@@ -31,30 +32,49 @@ QuatSeries quaternions(const std::vector<std::vector<double>>& columns) {
   return series;
 }
 
+// The truth's columns: BROAD's (and ours) by default, or EuRoC/ASL ground truth's
+// (state_groundtruth_estimate0/data.csv: "#timestamp [ns]", the orientation of the IMU's frame S
+// in the room's frame R as q_RS_w, q_RS_x, …), whose time is in nanoseconds.
+struct TruthLayout {
+  std::vector<std::string> columns;  // time, w, x, y, z
+  double seconds_per_unit = 1.0;
+  bool comment_header = false;
+};
+
+std::optional<TruthLayout> layout_of(const std::vector<std::string>& names) {
+  const auto has = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+  if (has("time_s") && has("qw") && has("qx") && has("qy") && has("qz"))
+    return TruthLayout{{"time_s", "qw", "qx", "qy", "qz"}, 1.0, false};
+  if (has("timestamp") && has("q_RS_w") && has("q_RS_x") && has("q_RS_y") && has("q_RS_z"))
+    return TruthLayout{{"timestamp", "q_RS_w", "q_RS_x", "q_RS_y", "q_RS_z"}, 1e-9, true};
+  return std::nullopt;
+}
+
 }  // namespace
+
+bool is_orientation_truth(const std::string& truth_path) { return layout_of(header_columns(truth_path)).has_value(); }
 
 double heading_twist_deg(const Quat& truth, const Quat& estimate) {
   const Quat e = truth * estimate.inverse();
   return core::rad_to_deg(std::remainder(2.0 * std::atan2(e.z(), e.w()), 2.0 * M_PI));
 }
 
-bool is_orientation_truth(const std::string& truth_path) {
-  const auto names = header_columns(truth_path);
-  const auto has = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
-  return has("qw") && has("qx") && has("qy") && has("qz");
-}
-
 OrientationScore score_orientation(const std::string& estimates_path, const std::string& truth_path,
                                    double max_truth_gap_s) {
   OrientationScore score;
   const auto truth_names = header_columns(truth_path);
+  const auto layout = layout_of(truth_names);
+  if (!layout) return score;  // not an orientation truth: nothing to score
   score.has_moving = std::find(truth_names.begin(), truth_names.end(), "moving") != truth_names.end();
   TableOptions nan_allowed;
   nan_allowed.nan_text_is_nan = true;
   nan_allowed.empty_is_nan = true;
-  std::vector<std::string> wanted = {"time_s", "qw", "qx", "qy", "qz"};
+  TableOptions truth_options = nan_allowed;
+  truth_options.comment_header = layout->comment_header;
+  std::vector<std::string> wanted = layout->columns;
   if (score.has_moving) wanted.emplace_back("moving");
-  const auto truth_columns = read_table(truth_path, wanted, nan_allowed);
+  auto truth_columns = read_table(truth_path, wanted, truth_options);
+  for (double& t : truth_columns[0]) t *= layout->seconds_per_unit;
   const QuatSeries truth = quaternions(truth_columns);
   const auto estimate_columns =
       read_table(estimates_path, {"time_s", "qw", "qx", "qy", "qz", "heading_sigma_deg"}, nan_allowed);

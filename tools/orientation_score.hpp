@@ -1,6 +1,7 @@
 #pragma once
 // Heading error against an orientation truth (motion capture: time_s,qw,qx,qy,qz[,moving], as the
-// BROAD recordings carry it, "nan" where tracking was lost), defined as BROAD's README defines it:
+// BROAD recordings carry it, "nan" where tracking was lost; or EuRoC/ASL ground truth, "#timestamp
+// [ns],…,q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z [],…"), defined as BROAD's README defines it:
 // the rotation angle about the earth's vertical of q_true * q_est^-1, the estimate aligned to the
 // truth at the first instant both have. The estimates' own attitude is what is scored, so a tilt
 // integrated wrongly shows as the heading error it causes.
@@ -23,7 +24,8 @@ struct OrientationScore {
   std::vector<std::pair<double, double>> errors;  // (t_s, error_deg) at each scored row
 };
 
-// True when the file's header names qw, qx, qy and qz. Throws drivers::InputError/OpenError.
+// True when the file's header names time_s, qw, qx, qy and qz, or EuRoC's timestamp and q_RS_*. Throws
+// drivers::InputError/OpenError.
 bool is_orientation_truth(const std::string& truth_path);
 
 // Scores the estimates (time_s,qw,qx,qy,qz,heading_sigma_deg) at each of their rows inside the
