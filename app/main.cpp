@@ -107,7 +107,9 @@ int main(int argc, char** argv) {
   app::PlotOptions plot;
   auto* plot_cmd = cli.add_subcommand("plot", "Draw heading (+-2 sigma), error against a truth, bias and temperature");
   plot_cmd->add_option("estimates", plot.estimates, "Estimates CSV from replay or run")->required();
-  plot_cmd->add_option("--truth", plot.truth, "truth.csv from simulate: the truth and the error");
+  plot_cmd->add_option(
+      "--truth", plot.truth,
+      "truth.csv from simulate: the truth and the error; or an orientation truth (motion capture, EuRoC): the error");
   plot_cmd->add_option("--recording", plot.recording, "The recording: the sensor temperature");
   plot_cmd->add_option("-o,--output", plot.output, "Picture to write: .png or .svg")->required();
 

@@ -11,6 +11,7 @@
 #include "tools/csv_table.hpp"
 #include "tools/gnuplot.hpp"
 #include "tools/heading_score.hpp"
+#include "tools/orientation_score.hpp"
 
 namespace headingd::app {
 namespace {
@@ -70,7 +71,12 @@ int run_plot(const PlotOptions& options) {
             options.estimates,
             {"time_s", "heading_deg", "heading_sigma_deg", "bias_x_dps", "bias_y_dps", "bias_z_dps", "still"},
             {every, false});
-        if (options.truth) {
+        if (options.truth && is_orientation_truth(*options.truth)) {
+          // Motion capture: the error as `score` takes it (about the earth's vertical). No truth
+          // line beside the heading: the estimate's heading is its z filter's angle, which on a
+          // tilted sensor is not the turn about the vertical the truth's heading would be.
+          errors = score_orientation(options.estimates, *options.truth).errors;
+        } else if (options.truth) {
           truth = read_table(*options.truth, {"time_s", "heading_deg"});
           // The error at full resolution of the estimates, then thinned like every series.
           score_heading(read_columns(options.estimates, "time_s", "heading_deg"), TimeSeries{truth[0], truth[1]},
@@ -131,7 +137,8 @@ int run_plot(const PlotOptions& options) {
     }
 
   const bool with_truth = !truth.empty();
-  const int panels = with_truth ? 3 : 2;
+  const bool with_error = !errors.empty();
+  const int panels = with_error ? 3 : 2;
   std::string s = svg ? "set terminal svg size 1200," : "set terminal pngcairo size 1200,";
   s += std::to_string(panels * 300) + " font ',10'\nset encoding utf8\n";
   s += svg ? "set output 'plot.svg'\n" : "set output 'plot.png'\n";
@@ -152,7 +159,7 @@ int run_plot(const PlotOptions& options) {
   if (with_truth) s += ", 'truth.dat' using 1:2 with lines dt 2 lw 1.5 lc rgb 'black' title 'truth'";
   s += "\n";
   // 2. The error against the truth, inside the band the estimate claims.
-  if (with_truth)
+  if (with_error)
     s += "set title 'Heading error (truth − estimate) and the ±2σ the estimate claims'\nset ylabel 'error [deg]'\n"
          "plot 'error.dat' using 1:3:4 with filledcurves fc rgb '#fdd0a2' title '±2σ', '' using 1:2 with lines lw 1.5 "
          "lc rgb '#d94801' title 'error'\n";
@@ -169,7 +176,7 @@ int run_plot(const PlotOptions& options) {
   std::vector<PlotFile> files = {{"heading.dat", heading}, {"bias.dat", bias}};
   if (has_still) files.push_back({"still.dat", still});
   if (with_truth) files.push_back({"truth.dat", truth_text});
-  if (with_truth) files.push_back({"error.dat", error_text});
+  if (with_error) files.push_back({"error.dat", error_text});
   if (has_temp) files.push_back({"temp.dat", temp});
   if (const auto problem = draw_with_gnuplot(files, s, svg ? "plot.svg" : "plot.png", out)) {
     std::fprintf(stderr, "headingd: plot: %s\n", problem->c_str());

@@ -24,6 +24,19 @@ echo "ok: plot with truth and recording: PNG ${width}x${height}, $size bytes"
 grep -q '<svg' out.svg && grep -q 'width="1200"' out.svg || fail "not a 1200-wide SVG"
 echo "ok: SVG without truth (two panels)"
 
+# Against an orientation truth (motion capture's layout, written here from the estimates' own
+# attitude turned 3 degrees about the vertical from 60 s on): three panels, the error one among them.
+awk -F, 'NR > 1 { if ($1 >= 60) { c = cos(3 * 3.14159265358979 / 360); s = sin(3 * 3.14159265358979 / 360)
+    printf "%s,%.12f,%.12f,%.12f,%.12f,1\n", $1, c*$3 - s*$6, c*$4 - s*$5, c*$5 + s*$4, c*$6 + s*$3 }
+  else printf "%s,%s,%s,%s,%s,0\n", $1, $3, $4, $5, $6 }
+  NR == 1 { print "time_s,qw,qx,qy,qz,moving" }' est.csv >mocap.csv
+"$headingd" plot est.csv --truth mocap.csv -o mocap.svg 2>err || fail "plot against an orientation truth: $(cat err)"
+grep -q 'Heading error (truth' mocap.svg && grep -q 'height="900"' mocap.svg || fail "no error panel against mocap.csv"
+"$headingd" score est.csv mocap.csv --label m >score.txt 2>err || fail "score mocap: $(cat err)"
+read -r _ max _ <<<"$(grep '^m ' score.txt)"
+[ "$max" = 3.00 ] || fail "a truth turned 3 deg scores a max of $max: $(cat score.txt)"
+echo "ok: plot and score against an orientation truth (the estimates' attitude turned 3 deg: max 3.00)"
+
 # A name made to close a gnuplot string and run a command: written as a name, nothing runs.
 evil="x';system 'touch pwned';print '\$(touch pwned2).png"
 "$headingd" plot est.csv -o "$evil" 2>err || fail "hostile name: $(cat err)"
