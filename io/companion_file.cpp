@@ -10,9 +10,12 @@
 namespace headingd::drivers {
 namespace {
 
+// By name, without the unit EuRoC/ASL put after it ("w_RS_S_x [rad s^-1]").
 bool has_column(const Fields& header, std::string_view name) {
-  for (std::size_t i = 0; i < header.count; ++i)
-    if (trim(header.items[i]) == name) return true;
+  for (std::size_t i = 0; i < header.count; ++i) {
+    const auto field = trim(header.items[i]);
+    if (trim(field.substr(0, field.find('['))) == name) return true;
+  }
   return false;
 }
 
@@ -39,9 +42,15 @@ std::optional<std::string> companion_kind(const std::string& path) {
       lines.count_line(!text.empty() && text.front() != '#');
       if (text.empty()) continue;
       if (text.front() == '#') {
-        // An EuRoC header is a comment line: a recording.
-        if (trim(text.substr(1)).starts_with("timestamp")) return std::nullopt;
-        continue;
+        // An EuRoC/ASL header is a comment line: a recording when it names the gyro's columns;
+        // the dataset's other files share the layout (ground truth, cameras, a laser tracker).
+        const auto body = trim(text.substr(1));
+        if (!body.starts_with("timestamp")) continue;
+        Fields header;
+        split_fields(body, ',', header);
+        if (has_column(header, "w_RS_S_x")) return std::nullopt;
+        if (has_column(header, "q_RS_w")) return "an EuRoC/ASL ground truth";
+        return "another EuRoC/ASL sensor's data, no w_RS_S_x";
       }
       Fields header;
       split_fields(text, ',', header);

@@ -50,3 +50,16 @@ read -r _ _ final5 _ <<<"$(grep '^est ' <<<"$out5")"
 awk -v f="$final5" -v f0="$final" 'BEGIN { exit !(f - f0 > 4.99 && f - f0 < 5.01) }' ||
   fail "a truth turned 5 deg more shows final $final5 against $final: $out5"
 echo "ok: EuRoC imu0 and ground truth written by hand: replayed and scored, error under 0.5 deg; 5 deg more in the truth shows as 5 deg"
+
+# The dataset's folders, replayed as a whole: only imu0 is a recording; the ground truth and a
+# camera's list share its layout and are left out, named.
+mkdir -p mav0/imu0 mav0/state_groundtruth_estimate0 mav0/cam0
+cp imu.csv mav0/imu0/data.csv && cp truth.csv mav0/state_groundtruth_estimate0/data.csv
+printf '#timestamp [ns],filename\n1403636579758555392,1403636579758555392.png\n' >mav0/cam0/data.csv
+"$headingd" replay -r mav0 --output-dir out >table.txt 2>err || fail "replay -r mav0: $(cat table.txt err)"
+[ "$(grep -c '^mav0/' table.txt)" -eq 1 ] && grep -q '^mav0/imu0/data.csv ' table.txt || fail "rows: $(cat table.txt)"
+grep -q "cam0/data.csv (another EuRoC/ASL sensor's data, no w_RS_S_x)" err &&
+  grep -q "state_groundtruth_estimate0/data.csv (an EuRoC/ASL ground truth)" err || fail "left out unnamed: $(cat err)"
+"$headingd" score out/imu0/data.estimates.csv mav0/state_groundtruth_estimate0/data.csv --label dir >dir.txt 2>&1 ||
+  fail "score of the dataset's replay: $(cat dir.txt)"
+echo "ok: replay -r of an EuRoC dataset's folders takes imu0 only (ground truth and camera left out, named); scored: $(grep '^dir ' dir.txt)"
