@@ -13,6 +13,7 @@
 #include "io/csv_out.hpp"
 #include "pipeline/dds_sink.hpp"
 #include "pipeline/estimates_sink.hpp"
+#include "pipeline/expendable_sink.hpp"
 #include "pipeline/pacer.hpp"
 #include "pipeline/pipeline.hpp"
 #include "pipeline/progress_sink.hpp"
@@ -158,11 +159,20 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
 
   std::optional<pipeline::RecordingSink> recording;
   std::optional<pipeline::EstimatesSink> estimates;
+  pipeline::OutputDrops drops;
+  std::optional<pipeline::ExpendableSink> recording_guard, estimates_guard;
+  const bool expendable = options.files_expendable && node != nullptr;
   try {
-    if (options.record_path) pipeline.add_sink(recording.emplace(*options.record_path, options.record_comments));
+    if (options.record_path) {
+      recording.emplace(*options.record_path, options.record_comments);
+      pipeline.add_sink(expendable ? recording_guard.emplace(*recording, "recording", drops)
+                                   : static_cast<pipeline::Sink&>(*recording));
+    }
     if (options.output) {
-      pipeline.add_sink(estimates.emplace(*options.output, options.output_rate_hz, source.nominal_rate_hz(),
-                                          options.settings.segments.segment_s));
+      estimates.emplace(*options.output, options.output_rate_hz, source.nominal_rate_hz(),
+                        options.settings.segments.segment_s);
+      pipeline.add_sink(expendable ? estimates_guard.emplace(*estimates, "estimates output", drops)
+                                   : static_cast<pipeline::Sink&>(*estimates));
     }
   } catch (const OutputError& error) {
     std::fprintf(stderr, "headingd: %s\n", error.what());
@@ -173,6 +183,7 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
     const auto clock = source.health().live || options.speed_factor > 0 ? pipeline::StampClock::FirstSample
                                                                         : pipeline::StampClock::EachSample;
     pipeline.add_sink(dds.emplace(*node, source, clock, options.dds.on_duplicate));
+    dds->watch_outputs(&drops);
     pipeline.set_inbox(&*dds);
   }
   std::optional<pipeline::StateSink> state;
@@ -193,6 +204,9 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
     std::fprintf(stderr, "headingd: %s\n", outcome.error.c_str());
   if (outcome.ending == pipeline::Ending::BadInput)
     std::fprintf(stderr, "headingd: stopped there; estimates up to the previous sample are kept\n");
+  if (drops.count > 0)
+    std::fprintf(stderr, "headingd: %llu file output(s) dropped, the run went on publishing; last: %s\n",
+                 static_cast<unsigned long long>(drops.count), drops.last.c_str());
   if (node) {
     // Late subscribers still get the latest GyroBias and Status (transient-local) meanwhile.
     linger(options.linger_s);

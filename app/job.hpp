@@ -26,6 +26,9 @@ struct JobOptions {
   double state_save_interval_s = 60.0;
   bool state_restore_heading = true;
   bool publish = false;  // DDS
+  // With DDS on, a file output (recording, estimates) that cannot be written is dropped and the
+  // run goes on publishing (pipeline/expendable_sink): `run`. Otherwise it ends the run (exit 73).
+  bool files_expendable = false;
   DdsSettings dds;
   double speed_factor = 0.0;  // recordings: 0 as fast as possible, else a factor of real time
   std::size_t batch = 64;

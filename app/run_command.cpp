@@ -107,6 +107,7 @@ int run_live(const RunOptions& options) {
   job.state_save_interval_s = config.state_save_interval_s;
   job.state_restore_heading = config.state_restore_heading;
   job.publish = options.publish;
+  job.files_expendable = options.publish;  // the vehicle's heading outlives a full disk
   job.dds = config.dds;
   job.duration_s = options.duration_s;
   job.config_path = options.config_path;

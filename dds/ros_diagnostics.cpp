@@ -61,6 +61,9 @@ DiagnosticEntry DiagnosticsBuilder::sensor(const core::Estimate& e, const Status
       std::abs(r.sample_rate_hz / r.nominal_rate_hz - 1.0) > kRateTolerance)
     raise(entry, DiagnosticLevel::Warn,
           "output rate " + number(r.sample_rate_hz) + " Hz, nominal " + number(r.nominal_rate_hz) + " Hz");
+  // For the rest of the run: the file is gone, whatever the sensor does.
+  if (r.outputs_dropped > 0)
+    raise(entry, DiagnosticLevel::Warn, "a file output could not be written and was dropped: " + r.output_dropped);
   entry.values = {{"state", sensor_state_name(r.state)},
                   {"rate_hz", number(r.sample_rate_hz)},
                   {"nominal_rate_hz", number(r.nominal_rate_hz)},
@@ -71,7 +74,8 @@ DiagnosticEntry DiagnosticsBuilder::sensor(const core::Estimate& e, const Status
                   {"recoveries", std::to_string(r.recoveries)},
                   {"stuck_samples", std::to_string(r.stuck_samples)},
                   {"temperature_c", number(e.temp_c)},
-                  {"uptime_s", number(r.uptime_s)}};
+                  {"uptime_s", number(r.uptime_s)},
+                  {"file_outputs_dropped", std::to_string(r.outputs_dropped)}};
   return entry;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // How the sensor and the run are doing, as the pipeline sees them: for Status and /diagnostics.
 #include <cstdint>
+#include <string>
 
 namespace headingd::app {
 
@@ -32,6 +33,8 @@ struct StatusReport {
   std::uint64_t stuck_samples = 0;  // the current run of samples identical on all three axes
   double uptime_s = 0.0;
   std::uint32_t other_publishers = 0;
+  std::uint64_t outputs_dropped = 0;  // file outputs the run went on without (a full disk)
+  std::string output_dropped;         // which, and why: the last one
 };
 
 }  // namespace headingd::app

@@ -92,6 +92,10 @@ app::StatusReport DdsSink::report(const core::Estimate& estimate) {
   r.stuck_samples = stuck_samples_;
   r.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
   r.other_publishers = rivals_;
+  if (drops_ != nullptr) {
+    r.outputs_dropped = drops_->count;
+    r.output_dropped = drops_->last;
+  }
   return r;
 }
 

@@ -6,6 +6,7 @@
 
 #include "dds/dds_node.hpp"
 #include "dds/dds_participant.hpp"
+#include "pipeline/expendable_sink.hpp"
 #include "pipeline/sink.hpp"
 #include "pipeline/wall_stamps.hpp"
 
@@ -27,6 +28,8 @@ class DdsSink final : public Sink, public CommandInbox {
   // Another publisher of our topics: logged, counted on Status, and under the refuse policy
   // the run ends (RunRefused) if the other one came first.
   void batch_done(const core::Estimator& estimator, const core::SampleSource& source) override;
+  // The run's dropped file outputs, for Status and /diagnostics (not owned; may be null).
+  void watch_outputs(const OutputDrops* drops) { drops_ = drops; }
 
  private:
   app::StatusReport report(const core::Estimate& estimate);
@@ -48,6 +51,7 @@ class DdsSink final : public Sink, public CommandInbox {
   std::vector<app::Refusal> refusals_;
   core::Vec3 last_rate_dps_ = core::Vec3::Zero();
   std::uint64_t stuck_samples_ = 0;  // samples equal to the one before on all three axes
+  const OutputDrops* drops_ = nullptr;
   double first_t_s_ = 0.0;
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   // A sensor's batch is one wake-up's samples (a FIFO burst): a publication that falls due

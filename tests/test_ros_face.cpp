@@ -247,6 +247,26 @@ TEST(RosDiagnostics, ABiasRestartAndAHeadingCorrectionWarnForTenSeconds) {
   EXPECT_EQ(builder.build(e, d, report, {})[1].level, app::DiagnosticLevel::Ok);
 }
 
+TEST(RosDiagnostics, ADroppedFileOutputWarnsForTheRestOfTheRun) {
+  app::DiagnosticsBuilder builder{RosSettings{}};
+  app::StatusReport report;
+  report.state = app::SensorState::Ok;
+  core::Estimate e = running_estimate();
+  EXPECT_EQ(builder.build(e, running_diagnostics(), report, {})[0].level, app::DiagnosticLevel::Ok);
+  report.outputs_dropped = 1;
+  report.output_dropped = "recording: cannot write /var/log/rec.csv: No space left on device";
+  for (const double t_s : {101.0, 5000.0}) {  // not only the ten seconds after it
+    e.t_s = t_s;
+    const auto entries = builder.build(e, running_diagnostics(), report, {});
+    EXPECT_EQ(entries[0].level, app::DiagnosticLevel::Warn);
+    EXPECT_NE(entries[0].message.find("No space left on device"), std::string::npos) << entries[0].message;
+    bool counted = false;
+    for (const auto& [key, value] : entries[0].values)
+      counted = counted || (key == "file_outputs_dropped" && value == "1");
+    EXPECT_TRUE(counted);
+  }
+}
+
 TEST(RosConfig, ReadsTheRosTablesAndRefusesBadNames) {
   const auto config = app::parse_config(R"(
 [dds]

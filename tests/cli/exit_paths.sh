@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Every way a run can end goes through the same shutdown: end of input, SIGTERM, an output
-# that cannot be written (/dev/full) and a dead sensor each leave a fresh state file, send
+# that cannot be written (/dev/full: dropped while DDS publishes, the end of a run without DDS)
+# and a dead sensor each leave a fresh state file, send
 # STOPPING=1 on a real notify socket, and leave nothing in /dev/shm (each run gets a /dev/shm
 # of its own, a tmpfs in a mount namespace made here, so other processes' files cannot hide
-# or fake a leak). DDS is on in every case, with shared memory (config/fastdds-loopback-shm.xml).
+# or fake a leak). DDS is on in every case but one, with shared memory (config/fastdds-loopback-shm.xml).
 # Usage: exit_paths.sh HEADINGD NOTIFY_LISTENER SOURCE_ROOT
 set -uo pipefail
 headingd="$1"
@@ -91,7 +92,15 @@ for name in sigterm realtime-gap sensor-stall dds-discovery; do
   echo "SIGTERM $name: exit $ms ms after the signal"
   [ "$ms" -le "${HEADINGD_STOP_LIMIT_MS:-200}" ] || fail "$name: exit took $ms ms after SIGTERM"
 done
-run_case output-error 73 0 run --recording "$recording" --speed max --output /dev/full --output-rate 0
+# A file output that cannot be written: with DDS on the run drops it and goes on publishing to the
+# end (exit 0), its other outputs whole (the estimates equal the end-of-input case's); without DDS
+# the file was the run's product, and the run ends with exit 73.
+run_case output-dropped 0 0 run --recording "$recording" --speed max --output "$dir/est-dropped.csv" --record /dev/full
+grep -q "1 file output(s) dropped, the run went on publishing; last: recording: cannot write /dev/full" \
+  "$dir/output-dropped/stderr" && grep -q "published [1-9][0-9]* orientation messages" "$dir/output-dropped/stderr" &&
+  grep -q "(end of input)" "$dir/output-dropped/stderr" || fail "output-dropped: $(cat "$dir/output-dropped/stderr")"
+cmp -s "$dir/est.csv" "$dir/est-dropped.csv" || fail "output-dropped: the estimates differ from the end-of-input case's"
+run_case output-error 73 0 run --recording "$recording" --speed max --output /dev/full --output-rate 0 --no-dds
 grep -q "cannot write /dev/full" "$dir/output-error/stderr" || fail "output-error: $(cat "$dir/output-error/stderr")"
 run_case sensor-death 74 0 run --simulated-chip still --sim-dead-after 20
 grep -q "L3GD20H: no sample for 30 s, every recovery failed" "$dir/sensor-death/stderr" ||
