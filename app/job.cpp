@@ -158,11 +158,17 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
   pipeline::Pipeline pipeline(source, std::move(estimator), pipeline_options);
 
   std::optional<pipeline::RecordingSink> recording;
+  std::optional<pipeline::RollingRecordingSink> rolling;
   std::optional<pipeline::EstimatesSink> estimates;
   pipeline::OutputDrops drops;
-  std::optional<pipeline::ExpendableSink> recording_guard, estimates_guard;
+  std::optional<pipeline::ExpendableSink> recording_guard, rolling_guard, estimates_guard;
   const bool expendable = options.files_expendable && node != nullptr;
   try {
+    if (!options.rolling.dir.empty()) {
+      rolling.emplace(options.rolling, options.record_comments, wall_now_s);
+      pipeline.add_sink(expendable ? rolling_guard.emplace(*rolling, "rolling recording", drops)
+                                   : static_cast<pipeline::Sink&>(*rolling));
+    }
     if (options.record_path) {
       recording.emplace(*options.record_path, options.record_comments);
       pipeline.add_sink(expendable ? recording_guard.emplace(*recording, "recording", drops)
@@ -237,6 +243,9 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
       summary.rows = estimates->rows_written();
     }
     if (recording) summary.recording = recording->path();
+    if (rolling)
+      summary.recording = rolling->path() + " (the last of " + std::to_string(rolling->files_started()) + " started, " +
+                          std::to_string(rolling->files_deleted()) + " old ones deleted)";
     print_summary(summary, source, pipeline.estimator());
   }
   if (outcome.estimator_fault && exit_code(outcome.ending) == kExitOk) {

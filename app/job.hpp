@@ -9,6 +9,7 @@
 #include "core/estimator.hpp"
 #include "core/sample_source.hpp"
 #include "dds/dds_settings.hpp"
+#include "pipeline/rolling_recording_sink.hpp"
 
 namespace headingd::app {
 
@@ -22,6 +23,7 @@ struct JobOptions {
   double output_rate_hz = 10.0;
   std::optional<std::string> record_path;  // native CSV of the samples
   std::string record_comments;             // its '#' provenance lines
+  pipeline::RollingSettings rolling;       // the last hours of samples, a series of recordings (dir "" = none)
   std::optional<std::string> state_path;
   double state_save_interval_s = 60.0;
   bool state_restore_heading = true;

@@ -130,6 +130,12 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-o,--output", run.output, "Estimates CSV ('-' = standard output)");
   run_cmd->add_option("--output-rate", run.output_rate_hz, "Rows per second; 0 = every sample")->capture_default_str();
   run_cmd->add_option("--record", run.record_path, "Also record the samples to this native CSV");
+  run_cmd->add_option("--record-dir", run.record_dir,
+                      "Keep the last hours of samples here, a series of .csv.zst recordings (overrides [record] dir)");
+  run_cmd->add_option("--record-split-hours", run.record_split_hours, "With --record-dir: hours per file (default 1)")
+      ->check(CLI::Range(0.001, 168.0));
+  run_cmd->add_option("--record-keep-hours", run.record_keep_hours, "With --record-dir: hours kept (default 48)")
+      ->check(CLI::Range(0.0, 87600.0));
   run_cmd->add_option("--duration", run.duration_s, "Stop after this many seconds (default: at SIGINT/SIGTERM)");
   run_cmd->add_option("--state", run.state_path, "Persisted bias file (overrides [state] path)");
   run_cmd->add_flag("!--no-dds", run.publish, "Do not publish over DDS");

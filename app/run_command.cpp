@@ -98,6 +98,14 @@ int run_live(const RunOptions& options) {
   if (parse_log_level(config.log_level, level)) set_log_level(level);
   job.output = options.output;
   job.record_path = options.record_path;
+  job.rolling.dir = options.record_dir.value_or(config.record_dir);
+  job.rolling.split_hours = options.record_split_hours.value_or(config.record_split_hours);
+  job.rolling.keep_hours = options.record_keep_hours.value_or(config.record_keep_hours);
+  if (job.record_path && !job.rolling.dir.empty()) {
+    std::fprintf(stderr,
+                 "headingd: --record and a rolling recording (--record-dir, or [record] dir) together: choose one\n");
+    return kExitUsage;
+  }
   if (options.state_path && options.state_path->empty()) {
     std::fprintf(stderr, "headingd: --state needs a file name (to run without saved state, give none)\n");
     return kExitUsage;

@@ -15,9 +15,12 @@ struct RunOptions {
   std::optional<std::string> output;  // estimates CSV
   double output_rate_hz = 10.0;
   std::optional<std::string> record_path;  // also write what the sensor delivers (native CSV)
-  std::optional<std::string> state_path;   // overrides [state] path
-  double duration_s = 0.0;                 // 0: until SIGINT or SIGTERM
-  bool publish = true;                     // DDS
+  // A rolling recording (overrides [record]): directory, hours per file, hours kept.
+  std::optional<std::string> record_dir;
+  std::optional<double> record_split_hours, record_keep_hours;
+  std::optional<std::string> state_path;  // overrides [state] path
+  double duration_s = 0.0;                // 0: until SIGINT or SIGTERM
+  bool publish = true;                    // DDS
   // A recording instead of the sensor, paced by `speed` (max, realtime or a factor).
   std::optional<std::string> recording;
   std::string speed = "realtime";

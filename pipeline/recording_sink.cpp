@@ -30,4 +30,9 @@ void RecordingSink::finish(const core::Estimator& /*estimator*/, const core::Sam
   writer_.close();
 }
 
+void RecordingSink::close(const std::string& last_line) {
+  writer_.comment(last_line);
+  writer_.close();
+}
+
 }  // namespace headingd::pipeline

@@ -16,6 +16,8 @@ class RecordingSink final : public Sink {
   void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) override;
   // Ends the file with the measured rate and the sample counts.
   void finish(const core::Estimator& estimator, const core::SampleSource& source) override;
+  // Ends the file with `last_line` (a '#' comment) instead, mid-run: a series split by time.
+  void close(const std::string& last_line);
   const std::string& path() const { return writer_.path(); }
 
  private:

@@ -453,6 +453,22 @@ void read_state(const TableReader& r, Config& c) {
       "path, save_interval_s, restore_heading");
 }
 
+void read_record(const TableReader& r, Config& c) {
+  r.each(
+      [&](const std::string& name, const toml::node& node, const std::string& key) {
+        if (name == "dir")
+          c.record_dir = text_of(r.file(), node, key);
+        else if (name == "split_hours")
+          c.record_split_hours = r.number(node, key, 0.001, 168.0, false);
+        else if (name == "keep_hours")
+          c.record_keep_hours = r.number(node, key, 0.0, 87600.0, false);
+        else
+          return false;
+        return true;
+      },
+      "dir, split_hours, keep_hours");
+}
+
 void read_stop_hint(const TableReader& r, StopHintSettings& h) {
   r.each(
       [&](const std::string& name, const toml::node& node, const std::string& key) {
@@ -565,8 +581,11 @@ Config interpret(const toml::table& root, const std::string& file) {
       read_state(TableReader(file, as_table(file, node, key), "state."), config);
     } else if (key == "ros") {
       read_ros(TableReader(file, as_table(file, node, key), "ros."), config.dds.ros);
+    } else if (key == "record") {
+      read_record(TableReader(file, as_table(file, node, key), "record."), config);
     } else {
-      fail(file, node, key, "is not a known section (known: [sensor], [estimator], [dds], [ros], [state], [log])");
+      fail(file, node, key,
+           "is not a known section (known: [sensor], [estimator], [dds], [ros], [state], [record], [log])");
     }
   }
   const auto& sec = config.dds.security;

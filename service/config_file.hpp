@@ -23,6 +23,10 @@ struct Config {
   std::optional<std::string> state_path;  // persisted bias and temperature model; "" = none
   double state_save_interval_s = 60.0;
   bool state_restore_heading = true;  // the heading goes on from the saved one after a restart
+  // [record]: the last hours of samples as a series of recordings (pipeline/rolling_recording_sink).
+  std::string record_dir;  // "" = none
+  double record_split_hours = 1.0;
+  double record_keep_hours = 48.0;
   std::string log_level = "info";
 };
 

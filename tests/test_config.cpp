@@ -214,3 +214,15 @@ TEST(Config, IioMistakesNameTheKey) {
   EXPECT_NE(error_of("[sensor.iio]\nsampling_frequency_hz = -1\n").find("sensor.iio.sampling_frequency_hz"),
             std::string::npos);
 }
+
+TEST(Config, ReadsTheRollingRecording) {
+  const auto config =
+      parse_config("[record]\ndir = \"/var/lib/headingd/rec\"\nsplit_hours = 2\nkeep_hours = 72\n", "t");
+  EXPECT_EQ(config.record_dir, "/var/lib/headingd/rec");
+  EXPECT_DOUBLE_EQ(config.record_split_hours, 2.0);
+  EXPECT_DOUBLE_EQ(config.record_keep_hours, 72.0);
+  EXPECT_EQ(parse_config("", "t").record_dir, "") << "none unless asked for";
+  EXPECT_NE(error_of("[record]\nsplit_hours = 0\n").find("'record.split_hours' is 0, allowed [0.001, 168]"),
+            std::string::npos);
+  EXPECT_NE(error_of("[record]\nkeep = 3\n").find("dir, split_hours, keep_hours"), std::string::npos);
+}

@@ -1,0 +1,116 @@
+#include "pipeline/rolling_recording_sink.hpp"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+
+#include "io/csv_out.hpp"
+#include "service/log.hpp"
+
+namespace headingd::pipeline {
+namespace {
+
+constexpr const char* kPrefix = "headingd-";
+constexpr const char* kEnding = ".csv.zst";
+constexpr std::size_t kStampChars = 16;  // YYYYmmddTHHMMSSZ
+
+std::string stamp_of(double utc_s) {
+  const std::time_t seconds = static_cast<std::time_t>(std::floor(utc_s));
+  std::tm parts{};
+  gmtime_r(&seconds, &parts);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y%m%dT%H%M%SZ", &parts);
+  return text;
+}
+
+bool exists(const std::string& path) {
+  struct stat info {};
+  return ::lstat(path.c_str(), &info) == 0;
+}
+
+}  // namespace
+
+std::optional<double> rolling_file_time(const std::string& name) {
+  const std::string prefix = kPrefix, ending = kEnding;
+  if (name.size() < prefix.size() + kStampChars + ending.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - ending.size(), ending.size(), ending) != 0)
+    return std::nullopt;
+  const std::string stamp = name.substr(prefix.size(), kStampChars);
+  // What may follow the stamp: nothing, or "_N" (files started within one second; '_' sorts after
+  // the '.' of the first one's ending, so the names sort in the order the files were started).
+  const std::string rest =
+      name.substr(prefix.size() + kStampChars, name.size() - prefix.size() - kStampChars - ending.size());
+  if (!rest.empty() &&
+      (rest[0] != '_' || rest.size() < 2 || rest.find_first_not_of("0123456789", 1) != std::string::npos))
+    return std::nullopt;
+  std::tm parts{};
+  const char* end = strptime(stamp.c_str(), "%Y%m%dT%H%M%SZ", &parts);
+  if (end == nullptr || *end != '\0') return std::nullopt;
+  return static_cast<double>(timegm(&parts));
+}
+
+RollingRecordingSink::RollingRecordingSink(RollingSettings settings, std::string comments, WallClock wall)
+    : settings_(std::move(settings)), comments_(std::move(comments)), wall_(wall) {
+  std::error_code error;
+  std::filesystem::create_directories(settings_.dir, error);
+  if (error) throw app::OutputError("cannot create the recording directory " + settings_.dir + ": " + error.message());
+}
+
+void RollingRecordingSink::add(const core::Sample& sample, const core::Estimate& estimate,
+                               const core::Estimator& estimator) {
+  if (!current_ || sample.t_s - file_start_t_s_ >= settings_.split_hours * 3600.0) start_file(sample.t_s);
+  current_->add(sample, estimate, estimator);
+}
+
+void RollingRecordingSink::start_file(double t_s) {
+  const std::string stamp = stamp_of(wall_());
+  std::string path = settings_.dir + "/" + kPrefix + stamp + kEnding;
+  for (int n = 1; exists(path); ++n)  // never over an earlier file, not even one started this second
+    path = settings_.dir + "/" + kPrefix + stamp + "_" + std::to_string(n) + kEnding;
+  if (current_) {
+    current_->close("# continued in " + std::filesystem::path(path).filename().string());
+    current_.reset();
+  }
+  current_.emplace(path, comments_);
+  file_start_t_s_ = t_s;
+  ++files_started_;
+  delete_expired(path);
+}
+
+// Only names of the series (rolling_file_time), only regular files (a link is not followed nor
+// removed), never the file just started; a directory we cannot list is said once and left.
+void RollingRecordingSink::delete_expired(const std::string& keep) {
+  DIR* dir = ::opendir(settings_.dir.c_str());
+  if (dir == nullptr) {
+    app::log(app::LogPriority::Warning, "recording expiry",
+             "cannot list " + settings_.dir + " to delete old recordings: " + std::strerror(errno));
+    return;
+  }
+  const double oldest_kept_s = wall_() - settings_.keep_hours * 3600.0;
+  while (const dirent* entry = ::readdir(dir)) {
+    const std::string name = entry->d_name;
+    const auto started = rolling_file_time(name);
+    const std::string path = settings_.dir + "/" + name;
+    if (!started || *started >= oldest_kept_s || path == keep) continue;
+    struct stat info {};
+    if (::fstatat(::dirfd(dir), name.c_str(), &info, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(info.st_mode)) continue;
+    if (::unlinkat(::dirfd(dir), name.c_str(), 0) == 0)
+      ++files_deleted_;
+    else
+      app::log(app::LogPriority::Warning, "recording expiry", "cannot delete " + path + ": " + std::strerror(errno));
+  }
+  ::closedir(dir);
+}
+
+void RollingRecordingSink::finish(const core::Estimator& estimator, const core::SampleSource& source) {
+  if (current_) current_->finish(estimator, source);
+}
+
+}  // namespace headingd::pipeline

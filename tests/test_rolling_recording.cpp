@@ -1,0 +1,146 @@
+// The rolling recording (pipeline/rolling_recording_sink): files split by sample time, each a
+// whole recording that replays with the samples it holds; a restart never writes over an
+// earlier file; only the series' own regular files past their age are deleted (not a link
+// named like one, not another file, not the file just started). The wall clock is a fake.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "core/estimator.hpp"
+#include "core/memory_source.hpp"
+#include "io/csv_replay.hpp"
+#include "pipeline/rolling_recording_sink.hpp"
+#include "temp_dir.hpp"
+
+namespace fs = std::filesystem;
+using headingd::pipeline::rolling_file_time;
+using headingd::pipeline::RollingRecordingSink;
+using headingd::pipeline::RollingSettings;
+using headingd::test::TempDir;
+
+namespace {
+
+double fake_now_s = 1796000000.0;  // 2026-11-29T…Z
+double fake_wall() { return fake_now_s; }
+
+std::vector<headingd::core::Sample> samples(double seconds, double rate_hz) {
+  std::vector<headingd::core::Sample> out;
+  for (int i = 0; i < static_cast<int>(seconds * rate_hz); ++i) {
+    headingd::core::Sample s;
+    s.t_s = 100.0 + i / rate_hz;
+    s.rate_dps = {0.1, -0.2, 0.3 + 0.001 * (i % 7)};
+    s.temp_c = 25.0;
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::vector<std::string> names_in(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::size_t samples_in(const std::string& path) {
+  headingd::drivers::CsvReplaySource source(path);
+  std::vector<headingd::core::Sample> batch(512);
+  std::size_t n = 0;
+  while (const auto got = source.read(batch)) n += got;
+  return n;
+}
+
+// Feeds the samples through the sink as the pipeline would, the fake clock one second on per
+// 100 samples.
+void feed(RollingRecordingSink& sink, const std::vector<headingd::core::Sample>& all) {
+  headingd::core::Estimator estimator(headingd::core::kDefaultEstimatorSettings);
+  headingd::core::MemorySource source(all);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (i % 100 == 0) fake_now_s += 1.0;
+    sink.add(all[i], estimator.update(all[i]), estimator);
+  }
+  sink.finish(estimator, source);
+}
+
+}  // namespace
+
+TEST(RollingRecording, NamesOfTheSeriesOnly) {
+  EXPECT_EQ(*rolling_file_time("headingd-20261207T012500Z.csv.zst"), 1796606700.0);
+  EXPECT_EQ(*rolling_file_time("headingd-20261207T012500Z_12.csv.zst"), 1796606700.0);
+  for (const char* other : {"headingd-20261207T012500Z.csv", "headingd-20261207T012500Z-1.csv.zst",
+                            "headingd-20261207T0125Z.csv.zst", "xheadingd-20261207T012500Z.csv.zst",
+                            "headingd-20261207T012500Z_.csv.zst", "headingd-2026120XT012500Z.csv.zst"})
+    EXPECT_FALSE(rolling_file_time(other).has_value()) << other;
+}
+
+TEST(RollingRecording, SplitsBySampleTimeAndEachFileReplays) {
+  TempDir dir;
+  RollingSettings settings{dir.path("rec"), 10.0 / 3600.0, 48.0};  // a file per 10 s of samples
+  RollingRecordingSink sink(settings, "# sensor: hand-made\n", fake_wall);
+  feed(sink, samples(25.0, 100.0));
+  const auto names = names_in(settings.dir);
+  ASSERT_EQ(names.size(), 3u);
+  EXPECT_EQ(sink.files_started(), 3u);
+  std::size_t total = 0;
+  std::vector<std::size_t> counts;
+  for (const auto& name : names) counts.push_back(samples_in(settings.dir + "/" + name)), total += counts.back();
+  EXPECT_EQ(total, 2500u);
+  EXPECT_EQ(counts, (std::vector<std::size_t>{1000, 1000, 500})) << "names sort in the order the files started";
+}
+
+TEST(RollingRecording, ARestartWritesBesideTheFileOfTheSameSecond) {
+  TempDir dir;
+  RollingSettings settings{dir.path("rec"), 1.0, 48.0};
+  fs::create_directories(settings.dir);
+  const double start_s = fake_now_s + 1.0;  // feed() moves the clock on before the first sample
+  const std::string earlier = settings.dir + "/headingd-" + [&] {
+    char text[32];
+    const std::time_t t = static_cast<std::time_t>(start_s);
+    std::tm parts{};
+    gmtime_r(&t, &parts);
+    std::strftime(text, sizeof text, "%Y%m%dT%H%M%SZ", &parts);
+    return std::string(text);
+  }() + ".csv.zst";
+  std::ofstream(earlier) << "what the run before recorded";
+  RollingRecordingSink sink(settings, "", fake_wall);
+  feed(sink, samples(2.0, 100.0));
+  std::ifstream in(earlier);
+  std::string kept;
+  std::getline(in, kept);
+  EXPECT_EQ(kept, "what the run before recorded");
+  EXPECT_EQ(names_in(settings.dir).size(), 2u);
+  EXPECT_NE(sink.path().find("Z_1.csv.zst"), std::string::npos) << sink.path();
+}
+
+TEST(RollingRecording, DeletesOnlyTheSeriesOwnOldFiles) {
+  TempDir dir;
+  RollingSettings settings{dir.path("rec"), 1.0, 24.0};
+  fs::create_directories(settings.dir);
+  const auto put = [&](const std::string& name) { std::ofstream(settings.dir + "/" + name) << "x\n"; };
+  put("headingd-20200101T000000Z.csv.zst");                                     // years old: deleted
+  put("headingd-20200101T000000Z_3.csv.zst");                                   // the same
+  put("notes-20200101T000000Z.csv.zst");                                        // not ours
+  put("headingd-20200101T000000Z.csv");                                         // not ours (no .zst)
+  fs::create_directories(settings.dir + "/headingd-20200102T000000Z.csv.zst");  // a directory
+  const std::string outside = dir.file("precious.csv.zst", "keep me\n");
+  fs::create_symlink(outside, settings.dir + "/headingd-20200103T000000Z.csv.zst");
+  fake_now_s = 1796000000.0;
+  put("headingd-20261129T084000Z.csv.zst");  // an hour old at the fake clock: kept
+  RollingRecordingSink sink(settings, "", fake_wall);
+  feed(sink, samples(1.0, 100.0));
+  EXPECT_EQ(sink.files_deleted(), 2u);
+  const auto names = names_in(settings.dir);
+  for (const char* gone : {"headingd-20200101T000000Z.csv.zst", "headingd-20200101T000000Z_3.csv.zst"})
+    EXPECT_EQ(std::count(names.begin(), names.end(), gone), 0) << gone;
+  for (const char* kept :
+       {"notes-20200101T000000Z.csv.zst", "headingd-20200101T000000Z.csv", "headingd-20200102T000000Z.csv.zst",
+        "headingd-20200103T000000Z.csv.zst", "headingd-20261129T084000Z.csv.zst"})
+    EXPECT_EQ(std::count(names.begin(), names.end(), kept), 1) << kept;
+  EXPECT_TRUE(fs::exists(outside)) << "a link named like an old file: neither it nor what it points to removed";
+  EXPECT_EQ(names.size(), 6u);  // the five kept and the file just started
+}
