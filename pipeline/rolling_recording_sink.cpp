@@ -78,15 +78,15 @@ void RollingRecordingSink::start_file(double t_s) {
     current_->close("# continued in " + std::filesystem::path(path).filename().string());
     current_.reset();
   }
+  delete_expired();  // first: on a full disk, what expires makes the room for the next file
   current_.emplace(path, comments_);
   file_start_t_s_ = t_s;
   ++files_started_;
-  delete_expired(path);
 }
 
 // Only names of the series (rolling_file_time), only regular files (a link is not followed nor
-// removed), never the file just started; a directory we cannot list is said once and left.
-void RollingRecordingSink::delete_expired(const std::string& keep) {
+// removed); a directory we cannot list is said and left.
+void RollingRecordingSink::delete_expired() {
   DIR* dir = ::opendir(settings_.dir.c_str());
   if (dir == nullptr) {
     app::log(app::LogPriority::Warning, "recording expiry",
@@ -98,7 +98,7 @@ void RollingRecordingSink::delete_expired(const std::string& keep) {
     const std::string name = entry->d_name;
     const auto started = rolling_file_time(name);
     const std::string path = settings_.dir + "/" + name;
-    if (!started || *started >= oldest_kept_s || path == keep) continue;
+    if (!started || *started >= oldest_kept_s) continue;
     struct stat info {};
     if (::fstatat(::dirfd(dir), name.c_str(), &info, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(info.st_mode)) continue;
     if (::unlinkat(::dirfd(dir), name.c_str(), 0) == 0)

@@ -35,7 +35,7 @@ class RollingRecordingSink final : public Sink {
 
  private:
   void start_file(double t_s);
-  void delete_expired(const std::string& keep);
+  void delete_expired();
 
   RollingSettings settings_;
   std::string comments_;
