@@ -187,9 +187,13 @@ int main(int argc, char** argv) {
   if (replay_cmd->parsed()) {
     const bool batch_options =
         jobs_option->count() > 0 || output_dir_option->count() > 0 || summary_option->count() > 0;
-    // A directory holding one recording (what `simulate --output-dir` writes, beside its truth) is
-    // that recording: -o, --plot and publishing apply to it as to the file itself.
-    if (replay_inputs.size() == 1 && std::filesystem::is_directory(replay_inputs.front()) && !batch_options) {
+    // A directory holding one recording (what `simulate --output-dir` writes, beside its truth),
+    // asked for one replay's outputs (-o, --plot): that recording, replayed as the file itself.
+    // Without them a directory stays a batch whatever it holds: a fleet's script gets its table
+    // on the day only one vehicle's file is there too.
+    const bool single_outputs = !replay_plot.empty() || replay.output != "-";
+    if (replay_inputs.size() == 1 && std::filesystem::is_directory(replay_inputs.front()) && !batch_options &&
+        single_outputs) {
       const std::vector<app::FoundRecording> found = app::expand_inputs(replay_inputs, batch.recursive);
       if (found.empty()) return app::kExitNoInput;
       replay_inputs.clear();

@@ -68,6 +68,9 @@ echo "ok: colliding outputs refused (64) before any work; a missing input 66"
 grep -q "s6: left out, not recordings: truth.csv (a truth file)" dir.log || fail "truth not named: $(cat dir.log)"
 "$headingd" replay --no-dds s6/imu.csv -o file.csv 2>/dev/null && cmp -s dir.csv file.csv ||
   fail "the directory's estimates differ from its recording's"
+# Without -o or --plot the same directory is a batch of one: the table a fleet's script reads.
+"$headingd" replay s6 >one.txt 2>/dev/null && head -1 one.txt | grep -q '^file ' && grep -q '^s6/imu.csv ' one.txt ||
+  fail "a directory of one recording without -o is not a batch: $(cat one.txt)"
 cp s1/truth.csv fleet/vehicle1-truth.csv && cp table.csv fleet/table.csv
 printf 'tme_s,gx,gy,gz\n0,0,0,0\n' >fleet/garbled.csv
 "$headingd" replay fleet --jobs 2 >table4.txt 2>err; rc=$?
@@ -77,7 +80,7 @@ grep -q "left out, not recordings: table.csv (a replay summary table), vehicle1-
   [ "$(grep -c '^fleet/' table4.txt)" -eq 6 ] || fail "companions or a damaged header: exit $rc: $(cat table4.txt err)"
 "$headingd" replay --no-dds fleet/vehicle1-truth.csv -o t.csv 2>err; rc=$?
 [ "$rc" -eq 65 ] && grep -q "missing column 'gx_dps'" err || fail "a truth file named on its own: exit $rc: $(cat err)"
-echo "ok: a simulation's directory replays as its recording; truth files and a batch table left out and named; a damaged header and a named truth file still fail"
+echo "ok: a simulation's directory replays as its recording with -o, is a batch of one without; truth files and a batch table left out and named; a damaged header and a named truth file still fail"
 
 # A fleet's archive, folders by vehicle and day, every recording named imu.csv: with -r all are
 # found (a link back up the tree not followed), and under --output-dir each estimates file keeps
