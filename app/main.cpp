@@ -95,7 +95,8 @@ int main(int argc, char** argv) {
   score_cmd
       ->add_option(
           "truth", score.truth,
-          "truth.csv from simulate, or an orientation truth (time_s,qw,qx,qy,qz[,moving]: motion capture, BROAD)")
+          "truth.csv from simulate, or an orientation truth (time_s,qw,qx,qy,qz[,moving]: motion capture, BROAD; "
+          "EuRoC/ASL ground truth)")
       ->required();
   score_cmd->add_option("--label", score.label, "Row label (default: the estimates file's name)");
   score_cmd->add_option("--errors", score.errors_output, "Write time_h,error_deg at 1 Hz to this file");
