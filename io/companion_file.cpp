@@ -2,6 +2,7 @@
 
 #include <string_view>
 
+#include "io/csv_header.hpp"
 #include "io/input_error.hpp"
 #include "io/line_reader.hpp"
 #include "io/native_csv.hpp"
@@ -10,12 +11,9 @@
 namespace headingd::drivers {
 namespace {
 
-// By name, without the unit EuRoC/ASL put after it ("w_RS_S_x [rad s^-1]").
 bool has_column(const Fields& header, std::string_view name) {
-  for (std::size_t i = 0; i < header.count; ++i) {
-    const auto field = trim(header.items[i]);
-    if (trim(field.substr(0, field.find('['))) == name) return true;
-  }
+  for (std::size_t i = 0; i < header.count; ++i)
+    if (column_name(header.items[i]) == name) return true;
   return false;
 }
 
@@ -36,26 +34,16 @@ std::optional<std::string> kind_of_header(const Fields& header) {
 std::optional<std::string> companion_kind(const std::string& path) {
   try {
     LineReader lines(path);
-    std::string_view line;
-    while (lines.next(line)) {
-      const auto text = trim(line);
-      lines.count_line(!text.empty() && text.front() != '#');
-      if (text.empty()) continue;
-      if (text.front() == '#') {
-        // An EuRoC/ASL header is a comment line: a recording when it names the gyro's columns;
-        // the dataset's other files share the layout (ground truth, cameras, a laser tracker).
-        const auto body = trim(text.substr(1));
-        if (!body.starts_with("timestamp")) continue;
-        Fields header;
-        split_fields(body, ',', header);
-        if (has_column(header, "w_RS_S_x")) return std::nullopt;
-        if (has_column(header, "q_RS_w")) return "an EuRoC/ASL ground truth";
-        return "another EuRoC/ASL sensor's data, no w_RS_S_x";
-      }
-      Fields header;
-      split_fields(text, ',', header);
-      return kind_of_header(header);
-    }
+    const auto header_line = read_header_line(lines);
+    if (!header_line) return std::nullopt;
+    Fields header;
+    split_fields(header_line->text, ',', header);
+    if (!header_line->euroc) return kind_of_header(header);
+    // An EuRoC/ASL recording names the gyro's columns; the dataset's other files share the
+    // layout (ground truth, cameras, a laser tracker).
+    if (has_column(header, "w_RS_S_x")) return std::nullopt;
+    if (has_column(header, "q_RS_w")) return "an EuRoC/ASL ground truth";
+    return "another EuRoC/ASL sensor's data, no w_RS_S_x";
   } catch (const OpenError&) {
   } catch (const InputError&) {
   }

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/units.hpp"
+#include "io/csv_header.hpp"
 #include "io/native_csv.hpp"
 
 namespace headingd::drivers {
@@ -12,17 +13,6 @@ namespace {
 
 constexpr std::string_view kEurocTime = "timestamp";
 constexpr std::string_view kEurocRates[3] = {"w_RS_S_x", "w_RS_S_y", "w_RS_S_z"};
-
-// EuRoC headers put units after the name ("w_RS_S_x [rad s^-1]"): compare the name only.
-std::string_view column_key(std::string_view name) {
-  name = trim(name);
-  const auto bracket = name.find('[');
-  return trim(name.substr(0, bracket));
-}
-
-bool is_euroc_header(std::string_view comment_body) {
-  return column_key(comment_body.substr(0, comment_body.find(','))) == kEurocTime;
-}
 
 std::string shorten(std::string_view text) { return printable(text, 40); }
 
@@ -59,29 +49,14 @@ void CsvReplaySource::fail(std::string problem) const { lines_.fail(std::move(pr
 bool CsvReplaySource::next_line(std::string_view& line) { return lines_.next(line); }
 
 void CsvReplaySource::read_header() {
-  std::string_view line;
-  while (next_line(line)) {
-    const auto text = trim(line);
-    lines_.count_line(!text.empty() && text.front() != '#');
-    if (text.empty()) continue;
-    if (text.front() == '#') {
-      const auto body = trim(text.substr(1));
-      if (is_euroc_header(body)) {
-        format_ = Format::Euroc;
-        split_fields(body, ',', fields_);
-        find_columns(fields_);
-        return;
-      }
-      comments_.emplace_back(body);
-      continue;
-    }
-    format_ = Format::Native;
-    split_fields(text, ',', fields_);
-    find_columns(fields_);
-    return;
+  const auto header = read_header_line(lines_, &comments_);
+  if (!header) {
+    if (lines_.line_number() == 0) fail("file is empty");
+    fail("no header line: expected 'time_s,gx_dps,gy_dps,gz_dps' or an EuRoC '#timestamp [ns],…' line");
   }
-  if (lines_.line_number() == 0) fail("file is empty");
-  fail("no header line: expected 'time_s,gx_dps,gy_dps,gz_dps' or an EuRoC '#timestamp [ns],…' line");
+  format_ = header->euroc ? Format::Euroc : Format::Native;
+  split_fields(header->text, ',', fields_);
+  find_columns(fields_);
 }
 
 void CsvReplaySource::find_columns(const Fields& header) {
@@ -91,13 +66,13 @@ void CsvReplaySource::find_columns(const Fields& header) {
   // Which of two columns of one name holds the data? Neither guess is safe.
   for (std::size_t i = 0; i < column_names_.size(); ++i)
     for (std::size_t j = i + 1; j < column_names_.size(); ++j)
-      if (!column_names_[i].empty() && column_key(column_names_[i]) == column_key(column_names_[j]))
-        fail("column '" + printable(column_key(column_names_[i]), 60) + "' appears twice in the header (columns " +
+      if (!column_names_[i].empty() && column_name(column_names_[i]) == column_name(column_names_[j]))
+        fail("column '" + printable(column_name(column_names_[i]), 60) + "' appears twice in the header (columns " +
              std::to_string(i + 1) + " and " + std::to_string(j + 1) + ")");
 
   const auto find = [&](std::string_view key) -> std::optional<std::size_t> {
     for (std::size_t i = 0; i < column_names_.size(); ++i)
-      if (column_key(column_names_[i]) == key) return i;
+      if (column_name(column_names_[i]) == key) return i;
     return std::nullopt;
   };
   const auto require = [&](std::string_view key) {

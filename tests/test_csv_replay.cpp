@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "io/companion_file.hpp"
+#include "io/csv_header.hpp"
 #include "io/csv_replay.hpp"
 #include "io/text_fields.hpp"
 #include "temp_dir.hpp"
@@ -93,6 +95,37 @@ TEST(CsvReplay, EurocConvertsNanosecondsAndRadians) {
   EXPECT_DOUBLE_EQ(samples[1].t_s, 1.0035);
   EXPECT_NEAR(samples[0].rate_dps.z(), 180.0, 1e-12);
   EXPECT_NEAR(samples[1].rate_dps.x(), 1.0, 1e-12);
+}
+
+// The replay, the companion-file test and score's tables all find the header through
+// read_header_line: a comment that only mentions "timestamp" is a comment, EuRoC's is a header.
+TEST(CsvHeader, CommentsBeforeAnEurocHeaderAndUnitsLeftOut) {
+  TempDir dir;
+  const auto path = dir.file("gt.csv",
+                             "# exported 2024\n\n#  timestamps below in ns\n"
+                             " # timestamp [ns] , q_RS_w [], p_RS_R_x [m]\n1,1,0\n");
+  headingd::drivers::LineReader lines(path);
+  std::vector<std::string> comments;
+  const auto header = headingd::drivers::read_header_line(lines, &comments);
+  ASSERT_TRUE(header);
+  EXPECT_TRUE(header->euroc);
+  EXPECT_EQ(header->text, "timestamp [ns] , q_RS_w [], p_RS_R_x [m]");
+  EXPECT_EQ(comments, (std::vector<std::string>{"exported 2024", "timestamps below in ns"}));
+  EXPECT_EQ(headingd::drivers::column_name(" q_RS_w [] "), "q_RS_w");
+  EXPECT_EQ(headingd::drivers::column_name("gz_dps"), "gz_dps");
+  EXPECT_EQ(headingd::drivers::companion_kind(path), "an EuRoC/ASL ground truth");
+
+  // A native header after comments; a file of comments only has none.
+  const auto native = dir.file("imu.csv", "#timestamp-free note\ntime_s,gx_dps,gy_dps,gz_dps\n0,0,0,0\n");
+  headingd::drivers::LineReader native_lines(native);
+  const auto native_header = headingd::drivers::read_header_line(native_lines);
+  ASSERT_TRUE(native_header);
+  EXPECT_FALSE(native_header->euroc);
+  EXPECT_EQ(native_header->text, "time_s,gx_dps,gy_dps,gz_dps");
+  EXPECT_EQ(headingd::drivers::companion_kind(native), std::nullopt);
+  headingd::drivers::LineReader empty_lines(dir.file("c.csv", "# nothing\n\n"));
+  EXPECT_FALSE(headingd::drivers::read_header_line(empty_lines));
+  EXPECT_EQ(headingd::drivers::companion_kind(dir.file("t.csv", "time_s,heading_deg,moving\n")), "a truth file");
 }
 
 TEST(CsvReplay, SharedBroadRecordingReadsCompletely) {

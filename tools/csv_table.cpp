@@ -4,44 +4,21 @@
 #include <limits>
 #include <optional>
 
+#include "io/csv_header.hpp"
 #include "io/line_reader.hpp"
 #include "io/text_fields.hpp"
 
 namespace headingd::app {
-namespace {
-
-// "q_RS_w []" -> "q_RS_w": EuRoC/ASL put the unit after the name.
-std::string_view without_unit(std::string_view name) {
-  name = drivers::trim(name);
-  return drivers::trim(name.substr(0, name.find('[')));
-}
-
-// The body of an EuRoC/ASL header line ("#timestamp [ns],…"), or nothing.
-std::optional<std::string_view> euroc_header(std::string_view text) {
-  if (text.empty() || text.front() != '#') return std::nullopt;
-  const auto body = drivers::trim(text.substr(1));
-  if (without_unit(body.substr(0, body.find(','))) != "timestamp") return std::nullopt;
-  return body;
-}
-
-}  // namespace
 
 std::vector<std::string> header_columns(const std::string& path) {
   drivers::LineReader lines(path);
-  std::string_view line;
-  while (lines.next(line)) {
-    const auto text = drivers::trim(line);
-    const auto euroc = euroc_header(text);
-    const bool content = !text.empty() && text.front() != '#';
-    lines.count_line(content || euroc);
-    if (!content && !euroc) continue;
-    drivers::Fields fields;
-    drivers::split_fields(euroc ? *euroc : text, ',', fields);
-    std::vector<std::string> names;
-    for (std::size_t i = 0; i < fields.count; ++i) names.emplace_back(without_unit(fields.items[i]));
-    return names;
-  }
-  lines.fail("no header line");
+  const auto header = drivers::read_header_line(lines);
+  if (!header) lines.fail("no header line");
+  drivers::Fields fields;
+  drivers::split_fields(header->text, ',', fields);
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < fields.count; ++i) names.emplace_back(drivers::column_name(fields.items[i]));
+  return names;
 }
 
 std::vector<std::vector<double>> read_table(const std::string& path, const std::vector<std::string>& names,
@@ -57,7 +34,7 @@ std::vector<std::vector<double>> read_table(const std::string& path, const std::
   drivers::Fields fields;
   while (lines.next(line)) {
     const auto text = drivers::trim(line);
-    const auto euroc = !have_header && options.comment_header ? euroc_header(text) : std::nullopt;
+    const auto euroc = !have_header && options.comment_header ? drivers::euroc_header_body(text) : std::nullopt;
     const bool content = !text.empty() && text.front() != '#';
     lines.count_line(content || euroc);  // a file of nothing but newlines is refused, not read for minutes
     if (!content && !euroc) continue;
@@ -68,7 +45,7 @@ std::vector<std::vector<double>> read_table(const std::string& path, const std::
       width = fields.count;
       for (std::size_t i = 0; i < fields.count; ++i)
         for (std::size_t k = 0; k < names.size(); ++k) {
-          if ((euroc ? without_unit(fields.items[i]) : drivers::trim(fields.items[i])) != names[k]) continue;
+          if ((euroc ? drivers::column_name(fields.items[i]) : drivers::trim(fields.items[i])) != names[k]) continue;
           if (index[k])
             lines.fail("column '" + names[k] + "' appears twice in the header (columns " +
                        std::to_string(*index[k] + 1) + " and " + std::to_string(i + 1) + ")");
