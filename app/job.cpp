@@ -161,13 +161,13 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
   std::optional<pipeline::RollingRecordingSink> rolling;
   std::optional<pipeline::EstimatesSink> estimates;
   pipeline::OutputDrops drops;
-  std::optional<pipeline::ExpendableSink> recording_guard, rolling_guard, estimates_guard;
+  std::optional<pipeline::ExpendableSink> recording_guard, estimates_guard;
   const bool expendable = options.files_expendable && node != nullptr;
   try {
     if (!options.rolling.dir.empty()) {
       rolling.emplace(options.rolling, options.record_comments, wall_now_s);
-      pipeline.add_sink(expendable ? rolling_guard.emplace(*rolling, "rolling recording", drops)
-                                   : static_cast<pipeline::Sink&>(*rolling));
+      if (expendable) rolling->resume_after_errors(drops);  // a lost file is followed by a new one
+      pipeline.add_sink(*rolling);
     }
     if (options.record_path) {
       recording.emplace(*options.record_path, options.record_comments);
@@ -244,8 +244,12 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
     }
     if (recording) summary.recording = recording->path();
     if (rolling)
-      summary.recording = rolling->path() + " (the last of " + std::to_string(rolling->files_started()) + " started, " +
-                          std::to_string(rolling->files_deleted()) + " old ones deleted)";
+      summary.recording =
+          (rolling->path().empty() ? options.rolling.dir + "/ (no file open at the end)" : rolling->path()) +
+          " (the last of " + std::to_string(rolling->files_started()) + " started, " +
+          (rolling->files_lost() > 0 ? std::to_string(rolling->files_lost()) + " lost to write errors, "
+                                     : std::string()) +
+          std::to_string(rolling->files_deleted()) + " old ones deleted)";
     print_summary(summary, source, pipeline.estimator());
   }
   if (outcome.estimator_fault && exit_code(outcome.ending) == kExitOk) {

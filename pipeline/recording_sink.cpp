@@ -10,6 +10,7 @@ RecordingSink::RecordingSink(const std::string& path, const std::string& comment
 void RecordingSink::add(const core::Sample& sample, const core::Estimate& /*estimate*/,
                         const core::Estimator& /*estimator*/) {
   writer_.add(sample);
+  ++samples_written_;
   // Once a wall-clock second: a crash loses at most that much of the recording.
   if (++since_check_ >= 64) {
     since_check_ = 0;
@@ -23,9 +24,14 @@ void RecordingSink::add(const core::Sample& sample, const core::Estimate& /*esti
 
 void RecordingSink::finish(const core::Estimator& /*estimator*/, const core::SampleSource& source) {
   const core::SourceHealth health = source.health();
-  char text[160];
+  char text[200];
   std::snprintf(text, sizeof text, "# measured output rate %.3f Hz; %llu samples, %llu lost", health.rate_hz,
                 static_cast<unsigned long long>(health.samples), static_cast<unsigned long long>(health.lost_samples));
+  if (samples_written_ != health.samples)  // the last file of a rolling series holds part of the run
+    std::snprintf(text, sizeof text,
+                  "# measured output rate %.3f Hz; the run: %llu samples, %llu lost; this file: %llu", health.rate_hz,
+                  static_cast<unsigned long long>(health.samples), static_cast<unsigned long long>(health.lost_samples),
+                  static_cast<unsigned long long>(samples_written_));
   writer_.comment(text);
   writer_.close();
 }

@@ -2,6 +2,7 @@
 // Records what the source delivered (`run --record`, `record`) as a native CSV that replays to
 // the very same estimates.
 #include <chrono>
+#include <cstdint>
 #include <string>
 
 #include "io/native_csv.hpp"
@@ -23,6 +24,7 @@ class RecordingSink final : public Sink {
  private:
   app::RecordingWriter writer_;
   unsigned since_check_ = 0;
+  std::uint64_t samples_written_ = 0;
   std::chrono::steady_clock::time_point last_push_ = std::chrono::steady_clock::now();
 };
 

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -65,8 +66,65 @@ RollingRecordingSink::RollingRecordingSink(RollingSettings settings, std::string
 
 void RollingRecordingSink::add(const core::Sample& sample, const core::Estimate& estimate,
                                const core::Estimator& estimator) {
-  if (!current_ || sample.t_s - file_start_t_s_ >= settings_.split_hours * 3600.0) start_file(sample.t_s);
-  current_->add(sample, estimate, estimator);
+  if (retry_at_t_s_) {
+    if (sample.t_s < *retry_at_t_s_) return;  // the gap after a lost file
+    guarded([&] { start_file(sample.t_s); }, sample.t_s);
+    if (!current_) return;
+    app::log(app::LogPriority::Notice, "rolling recording resumed",
+             "recording again in " + current_->path() + " after " +
+                 std::to_string(std::lround(sample.t_s - lost_at_t_s_)) + " s of samples not recorded");
+  } else if (!current_ || sample.t_s - file_start_t_s_ >= settings_.split_hours * 3600.0) {
+    guarded([&] { start_file(sample.t_s); }, sample.t_s);
+    if (!current_) return;
+  }
+  guarded([&] { current_->add(sample, estimate, estimator); }, sample.t_s);
+}
+
+// Without resume_after_errors, as any file output: the error ends the run (or the ExpendableSink
+// around us drops the series). With it, the file is given up and a later one tried.
+template <typename Call>
+void RollingRecordingSink::guarded(Call call, double t_s) {
+  if (drops_ == nullptr) return call();
+  try {
+    call();
+    retry_at_t_s_.reset();
+  } catch (const app::OutputClosed&) {
+    throw;
+  } catch (const app::OutputError& error) {
+    lose_file(error.what(), t_s);
+  }
+}
+
+// Closes the file as far as the disk took it (a second error on the way is the same loss, not
+// reported twice); one that got nothing onto the disk is removed rather than left to clutter the
+// series. Says what is left of it.
+std::string RollingRecordingSink::give_up_file() {
+  if (!current_) return "no file was open";
+  const std::string path = current_->path();
+  current_.reset();
+  struct stat info {};
+  if (::lstat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode) && info.st_size == 0) {
+    ::unlink(path.c_str());
+    return path + " held nothing and is removed";
+  }
+  return path + " keeps what was written";
+}
+
+void RollingRecordingSink::count_loss(const std::string& why) {
+  ++files_lost_;
+  ++drops_->count;
+  drops_->last = "rolling recording: " + why;
+}
+
+void RollingRecordingSink::lose_file(const std::string& why, double t_s) {
+  const std::string left = give_up_file();
+  if (!retry_at_t_s_) lost_at_t_s_ = t_s;
+  const double wait_s = std::min(kRetryAfterS, settings_.split_hours * 3600.0);
+  retry_at_t_s_ = t_s + wait_s;
+  count_loss(why);
+  app::log(app::LogPriority::Error, "output dropped rolling recording",
+           "the rolling recording could not be written (" + why + "); " + left + "; a new file is tried after " +
+               std::to_string(std::lround(wait_s)) + " s of samples; heading and status are still published");
 }
 
 void RollingRecordingSink::start_file(double t_s) {
@@ -110,7 +168,18 @@ void RollingRecordingSink::delete_expired() {
 }
 
 void RollingRecordingSink::finish(const core::Estimator& estimator, const core::SampleSource& source) {
-  if (current_) current_->finish(estimator, source);
+  if (!current_) return;
+  if (drops_ == nullptr) return current_->finish(estimator, source);
+  try {
+    current_->finish(estimator, source);
+  } catch (const app::OutputClosed&) {
+    throw;
+  } catch (const app::OutputError& error) {
+    count_loss(error.what());
+    const std::string left = give_up_file();
+    app::log(app::LogPriority::Error, "output dropped rolling recording",
+             std::string("the last file of the rolling recording could not be closed (") + error.what() + "); " + left);
+  }
 }
 
 }  // namespace headingd::pipeline

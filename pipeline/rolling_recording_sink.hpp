@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "pipeline/expendable_sink.hpp"
 #include "pipeline/recording_sink.hpp"
 
 namespace headingd::pipeline {
@@ -28,14 +29,27 @@ class RollingRecordingSink final : public Sink {
   RollingRecordingSink(RollingSettings settings, std::string comments, WallClock wall);
   void add(const core::Sample& sample, const core::Estimate& estimate, const core::Estimator& estimator) override;
   void finish(const core::Estimator& estimator, const core::SampleSource& source) override;
+  // Beside DDS the series is expendable, and on a vehicle that runs for months a full disk is
+  // seldom for ever (the series' own expiry, a log rotated, a file removed by hand): a file that
+  // cannot be written is closed as far as it got, counted in `drops`, and the series resumes with
+  // a new file after kRetryAfterS of samples (or one split, if shorter). Without this, a write
+  // error throws OutputError as every file output's does.
+  void resume_after_errors(OutputDrops& drops) { drops_ = &drops; }
+  static constexpr double kRetryAfterS = 300.0;
   // The file being written ("" before the first sample) and how many were started.
   std::string path() const { return current_ ? current_->path() : std::string(); }
   std::uint64_t files_started() const { return files_started_; }
   std::uint64_t files_deleted() const { return files_deleted_; }
+  std::uint64_t files_lost() const { return files_lost_; }
 
  private:
   void start_file(double t_s);
   void delete_expired();
+  template <typename Call>
+  void guarded(Call call, double t_s);
+  void lose_file(const std::string& why, double t_s);
+  std::string give_up_file();
+  void count_loss(const std::string& why);
 
   RollingSettings settings_;
   std::string comments_;
@@ -44,6 +58,10 @@ class RollingRecordingSink final : public Sink {
   double file_start_t_s_ = 0.0;
   std::uint64_t files_started_ = 0;
   std::uint64_t files_deleted_ = 0;
+  OutputDrops* drops_ = nullptr;
+  std::uint64_t files_lost_ = 0;
+  std::optional<double> retry_at_t_s_;  // after a lost file: when the next one is tried
+  double lost_at_t_s_ = 0.0;
 };
 
 // The time in a series file's name (UTC seconds), or nothing for any other name.

@@ -3,12 +3,15 @@
 // earlier file; only the series' own regular files past their age are deleted (not a link
 // named like one, not another file, not the file just started). The wall clock is a fake.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <vector>
 
 #include "core/estimator.hpp"
@@ -47,13 +50,15 @@ std::vector<std::string> names_in(const std::string& dir) {
   return names;
 }
 
-std::size_t samples_in(const std::string& path) {
+std::vector<headingd::core::Sample> read_samples(const std::string& path) {
   headingd::drivers::CsvReplaySource source(path);
-  std::vector<headingd::core::Sample> batch(512);
-  std::size_t n = 0;
-  while (const auto got = source.read(batch)) n += got;
-  return n;
+  std::vector<headingd::core::Sample> batch(512), all;
+  while (const auto got = source.read(batch))
+    all.insert(all.end(), batch.begin(), batch.begin() + static_cast<long>(got));
+  return all;
 }
+
+std::size_t samples_in(const std::string& path) { return read_samples(path).size(); }
 
 // Feeds the samples through the sink as the pipeline would, the fake clock one second on per
 // 100 samples.
@@ -143,4 +148,119 @@ TEST(RollingRecording, DeletesOnlyTheSeriesOwnOldFiles) {
     EXPECT_EQ(std::count(names.begin(), names.end(), kept), 1) << kept;
   EXPECT_TRUE(fs::exists(outside)) << "a link named like an old file: neither it nor what it points to removed";
   EXPECT_EQ(names.size(), 6u);  // the five kept and the file just started
+}
+
+namespace {
+
+// The file-size limit of this process (RLIMIT_FSIZE) as a disk that fills: a write past it fails
+// with EFBIG as one past a full disk fails with ENOSPC, in the same place (CsvOut's flush).
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    ::getrlimit(RLIMIT_FSIZE, &saved_);
+    previous_handler_ = std::signal(SIGXFSZ, SIG_IGN);  // the error, not the signal that kills
+    const rlimit limit{bytes, saved_.rlim_max};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() { lift(); }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+  void lift() {
+    if (lifted_) return;
+    ::setrlimit(RLIMIT_FSIZE, &saved_);
+    std::signal(SIGXFSZ, previous_handler_);
+    lifted_ = true;
+  }
+
+ private:
+  rlimit saved_{};
+  void (*previous_handler_)(int) = SIG_DFL;
+  bool lifted_ = false;
+};
+
+// Noisy rates: what a sensor gives, and text zstd cannot squeeze into nothing.
+std::vector<headingd::core::Sample> noisy_samples(double from_s, double seconds, double rate_hz) {
+  std::mt19937 random(7);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  std::vector<headingd::core::Sample> out;
+  for (int i = 0; i < static_cast<int>(seconds * rate_hz); ++i) {
+    headingd::core::Sample s;
+    s.t_s = from_s + i / rate_hz;
+    s.rate_dps = {noise(random), noise(random), 0.3 + noise(random)};
+    s.temp_c = 25.0;
+    out.push_back(s);
+  }
+  return out;
+}
+
+}  // namespace
+
+// A disk that fills mid-file and has room again later: the file keeps what it holds, the
+// samples in between are not recorded, a new file starts after the wait and the series goes on;
+// the drop is counted once. A file that got nothing onto the disk is removed.
+TEST(RollingRecording, AFileThatCannotBeWrittenIsFollowedByANewOne) {
+  TempDir dir;
+  RollingSettings settings{dir.path("rec"), 180.0 / 3600.0, 48.0};  // a file per 3 minutes
+  RollingRecordingSink sink(settings, "# sensor: hand-made\n", fake_wall);
+  headingd::pipeline::OutputDrops drops;
+  sink.resume_after_errors(drops);
+  headingd::core::Estimator estimator(headingd::core::kDefaultEstimatorSettings);
+  const auto all = noisy_samples(100.0, 700.0, 100.0);
+  const auto through = [&](double until_s) {
+    static std::size_t next = 0;
+    for (; next < all.size() && all[next].t_s < until_s; ++next) {
+      if (next % 100 == 0) fake_now_s += 1.0;
+      sink.add(all[next], estimator.update(all[next]), estimator);
+    }
+  };
+  {
+    FileSizeLimit full(rlim_t{64} * 1024);  // the first 1 MB of text CsvOut hands on fails past 64 kB
+    through(500.0);
+  }
+  through(1e9);
+  headingd::core::MemorySource source(all);
+  sink.finish(estimator, source);
+
+  EXPECT_EQ(drops.count, 1u) << drops.last;
+  EXPECT_NE(drops.last.find("cannot write"), std::string::npos) << drops.last;
+  EXPECT_EQ(sink.files_lost(), 1u);
+  const auto names = names_in(settings.dir);
+  ASSERT_EQ(names.size(), 3u) << "the lost file (what it holds), the one that resumed, the next";
+  EXPECT_LE(fs::file_size(settings.dir + "/" + names[0]), 64u * 1024u);
+  EXPECT_GT(fs::file_size(settings.dir + "/" + names[0]), 0u);
+  EXPECT_THROW(samples_in(settings.dir + "/" + names[0]), headingd::drivers::InputError) << "cut short";
+  // The first file failed at its first 1 MB of text (~15,000 samples in); the next one is tried
+  // 180 s (one split) of samples later and, with the file after it, holds every sample from there.
+  const auto resumed = read_samples(settings.dir + "/" + names[1]);
+  const auto last = read_samples(settings.dir + "/" + names[2]);
+  ASSERT_FALSE(resumed.empty());
+  ASSERT_FALSE(last.empty());
+  EXPECT_EQ(resumed.size(), 18000u) << "a whole split";
+  EXPECT_GT(resumed.front().t_s, 100.0 + 180.0) << "not before the wait after the loss";
+  EXPECT_LT(resumed.front().t_s, 500.0) << "started while the disk was full; its first write came after";
+  const auto from_resume =
+      std::count_if(all.begin(), all.end(), [&](const auto& s) { return s.t_s >= resumed.front().t_s; });
+  EXPECT_EQ(static_cast<std::size_t>(from_resume), resumed.size() + last.size());
+  EXPECT_DOUBLE_EQ(last.back().t_s, all.back().t_s);
+}
+
+// No room at all: each file is lost at its first write, holds nothing and is removed; the run
+// goes on trying, one split apart, every loss counted.
+TEST(RollingRecording, FilesThatGotNothingOntoTheDiskAreRemoved) {
+  TempDir dir;
+  RollingSettings settings{dir.path("rec"), 60.0 / 3600.0, 48.0};
+  RollingRecordingSink sink(settings, "", fake_wall);
+  headingd::pipeline::OutputDrops drops;
+  sink.resume_after_errors(drops);
+  const auto all = noisy_samples(0.0, 400.0, 100.0);
+  {
+    FileSizeLimit full(0);
+    feed(sink, all);
+  }
+  EXPECT_TRUE(names_in(settings.dir).empty());
+  // Started at 0 s and lost at its split (60 s: CsvOut had not written before), tried again at
+  // 120 s and lost at 180 s, and so on: 0, 120, 240, 360 (the last lost at finish).
+  EXPECT_EQ(sink.files_started(), 4u);
+  EXPECT_EQ(sink.files_lost(), 4u);
+  EXPECT_EQ(drops.count, 4u);
 }
