@@ -109,9 +109,10 @@ std::optional<std::string> clobbered_file(const JobOptions& options) {
   for (std::size_t i = 0; i < std::size(outputs); ++i) {
     const auto& [what, path] = outputs[i];
     if (!*path || **path == "-") continue;
-    if (options.input_path && same_file(**path, *options.input_path))
-      return std::string("the ") + what + " " + **path + " is the input " + *options.input_path +
-             " itself: refusing to overwrite it";
+    for (const auto& input : options.input_paths)
+      if (same_file(**path, input))
+        return std::string("the ") + what + " " + **path + " is the input " + input +
+               " itself: refusing to overwrite it";
     for (std::size_t j = i + 1; j < std::size(outputs); ++j) {
       const auto& [other, other_path] = outputs[j];
       if (*other_path && **other_path != "-" && same_file(**path, **other_path))

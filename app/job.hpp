@@ -5,6 +5,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/estimator.hpp"
 #include "core/sample_source.hpp"
@@ -18,8 +19,8 @@ struct JobOptions {
   std::function<std::optional<double>()> progress;
   std::string command;  // names the summary: "run", "replay", "record"
   core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
-  std::optional<std::string> input_path;  // the recording read, if any: never written to
-  std::optional<std::string> output;      // estimates CSV ("-": standard output)
+  std::vector<std::string> input_paths;  // the recordings read, if any: never written to
+  std::optional<std::string> output;     // estimates CSV ("-": standard output)
   double output_rate_hz = 10.0;
   std::optional<std::string> record_path;  // native CSV of the samples
   std::string record_comments;             // its '#' provenance lines

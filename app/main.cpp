@@ -1,6 +1,7 @@
 // headingd: one binary, one subcommand per job. Each subcommand's work lives in its own
 // *_command.cpp; this file only parses the command line and dispatches.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <filesystem>
 
 #include "app/batch_replay.hpp"
@@ -64,6 +65,10 @@ int main(int argc, char** argv) {
                        "Directories: their recordings at every depth, not one level");
   auto* summary_option =
       replay_cmd->add_option("--summary-csv", batch.summary_csv, "With several recordings: the table as CSV too");
+  bool join = false;
+  replay_cmd->add_flag("--join", join,
+                       "Several recordings (or a directory's, in name order: a rolling series) as one run, the "
+                       "estimator carrying on from each file into the next; each must go on in time");
   replay_cmd->add_option("--method", replay.method, "Bias method: auto (default), or the paper's a, b, c");
   replay_cmd->add_option("-o,--output", replay.output, "Estimates CSV ('-' = standard output)");
   replay_cmd->add_option("--output-rate", replay.output_rate_hz, "Rows per second; 0 = every sample")
@@ -188,6 +193,18 @@ int main(int argc, char** argv) {
   if (replay_cmd->parsed()) {
     const bool batch_options =
         jobs_option->count() > 0 || output_dir_option->count() > 0 || summary_option->count() > 0;
+    if (join) {
+      if (batch_options || std::find(replay_inputs.begin(), replay_inputs.end(), "-") != replay_inputs.end()) {
+        std::fprintf(stderr,
+                     "headingd: --join replays files as one run: --jobs, --output-dir, --summary-csv and "
+                     "'-' do not apply\n");
+        return app::kExitUsage;
+      }
+      const std::vector<app::FoundRecording> found = app::expand_inputs(replay_inputs, batch.recursive);
+      if (found.empty()) return app::kExitNoInput;
+      for (const auto& f : found) replay.joined.push_back(f.path);
+      replay_inputs = {replay.joined.front()};
+    }
     // A directory holding one recording (what `simulate --output-dir` writes, beside its truth),
     // asked for one replay's outputs (-o, --plot): that recording, replayed as the file itself.
     // Without them a directory stays a batch whatever it holds: a fleet's script gets its table
@@ -200,7 +217,8 @@ int main(int argc, char** argv) {
       replay_inputs.clear();
       for (const auto& f : found) replay_inputs.push_back(f.path);
     }
-    const bool many = replay_inputs.size() > 1 || std::filesystem::is_directory(replay_inputs.front()) || batch_options;
+    const bool many =
+        !join && (replay_inputs.size() > 1 || std::filesystem::is_directory(replay_inputs.front()) || batch_options);
     if (many) {
       if (!replay_plot.empty() || replay.output != "-") {
         std::fprintf(
@@ -221,7 +239,10 @@ int main(int argc, char** argv) {
     }
     const int code = app::run_replay(replay);
     if (code != app::kExitOk || replay_plot.empty()) return code;
-    return app::run_plot({replay.output, std::nullopt, replay.input, replay_plot});
+    // Joined, the recording's temperature is not drawn: the plot reads one recording.
+    return app::run_plot({replay.output, std::nullopt,
+                          replay.joined.empty() ? std::optional<std::string>(replay.input) : std::nullopt,
+                          replay_plot});
   }
   if (simulate_cmd->parsed()) return app::run_simulate(simulate);
   if (plot_cmd->parsed()) return app::run_plot(plot);

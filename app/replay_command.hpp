@@ -1,11 +1,14 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace headingd::app {
 
 struct ReplayOptions {
   std::string input;
+  // With more than one: replayed one after another as one run (`--join`); `input` unused.
+  std::vector<std::string> joined;
   std::optional<std::string> method;  // auto, a, b or c; overrides the config file
   std::string output = "-";           // estimates CSV; "-" is standard output
   double output_rate_hz = 10.0;       // 0: every sample

@@ -128,7 +128,7 @@ int run_live(const RunOptions& options) {
       return code;
     job.batch = 4096;
     job.record_comments = comments_of(*recording);
-    job.input_path = *options.recording;
+    job.input_paths = {*options.recording};
     job.progress = [&recording] { return recording->fraction_read(); };
     return run_job(*recording, job);
   }

@@ -184,13 +184,15 @@ void CsvReplaySource::check_sample(const core::Sample& sample) {
   previous_t_s_ = t_s;
 }
 
-core::SourceHealth CsvReplaySource::health() const {
+core::SourceHealth recording_health(std::uint64_t samples, double first_t_s, double last_t_s) {
   core::SourceHealth health;
-  health.samples = samples_;
-  const double span_s = previous_t_s_ - first_t_s_;
-  if (samples_ > 1 && span_s > 0) health.rate_hz = static_cast<double>(samples_ - 1) / span_s;
+  health.samples = samples;
+  const double span_s = last_t_s - first_t_s;
+  if (samples > 1 && span_s > 0) health.rate_hz = static_cast<double>(samples - 1) / span_s;
   return health;
 }
+
+core::SourceHealth CsvReplaySource::health() const { return recording_health(samples_, first_t_s_, previous_t_s_); }
 
 std::size_t CsvReplaySource::read(std::span<core::Sample> out) {
   if (pending_error_) {

@@ -73,4 +73,7 @@ class CsvReplaySource final : public core::SampleSource {
   std::optional<InputError> pending_error_;
 };
 
+// A recording's health: its samples and the rate they span (0 until two are read).
+core::SourceHealth recording_health(std::uint64_t samples, double first_t_s, double last_t_s);
+
 }  // namespace headingd::drivers

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
@@ -44,8 +45,9 @@ std::optional<double> rolling_file_time(const std::string& name) {
       name.compare(name.size() - ending.size(), ending.size(), ending) != 0)
     return std::nullopt;
   const std::string stamp = name.substr(prefix.size(), kStampChars);
-  // What may follow the stamp: nothing, or "_N" (files started within one second; '_' sorts after
-  // the '.' of the first one's ending, so the names sort in the order the files were started).
+  // What may follow the stamp: nothing, or "_NNN" (files started within one second; '_' sorts after
+  // the '.' of the first one's ending, and the count has three digits, so the names sort in the
+  // order the files were started, which `replay --join DIR` relies on). Any count is read.
   const std::string rest =
       name.substr(prefix.size() + kStampChars, name.size() - prefix.size() - kStampChars - ending.size());
   if (!rest.empty() &&
@@ -130,8 +132,11 @@ void RollingRecordingSink::lose_file(const std::string& why, double t_s) {
 void RollingRecordingSink::start_file(double t_s) {
   const std::string stamp = stamp_of(wall_());
   std::string path = settings_.dir + "/" + kPrefix + stamp + kEnding;
-  for (int n = 1; exists(path); ++n)  // never over an earlier file, not even one started this second
-    path = settings_.dir + "/" + kPrefix + stamp + "_" + std::to_string(n) + kEnding;
+  for (int n = 1; exists(path); ++n) {  // never over an earlier file, not even one started this second
+    char count[16];
+    std::snprintf(count, sizeof count, "_%03d", n);
+    path = settings_.dir + "/" + kPrefix + stamp + count + kEnding;
+  }
   if (current_) {
     current_->close("# continued in " + std::filesystem::path(path).filename().string());
     current_.reset();

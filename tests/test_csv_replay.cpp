@@ -12,18 +12,21 @@
 #include "io/companion_file.hpp"
 #include "io/csv_header.hpp"
 #include "io/csv_replay.hpp"
+#include "io/joined_replay.hpp"
 #include "io/text_fields.hpp"
 #include "temp_dir.hpp"
 
 using headingd::core::Sample;
 using headingd::drivers::CsvReplaySource;
 using headingd::drivers::InputError;
+using headingd::drivers::JoinedReplaySource;
 using headingd::drivers::OpenError;
 using headingd::test::TempDir;
 
 namespace {
 
-std::vector<Sample> read_all(CsvReplaySource& source) {
+template <typename Source>
+std::vector<Sample> read_all(Source& source) {
   std::vector<Sample> all;
   std::vector<Sample> batch(3);  // small batches exercise the hand-over between calls
   while (const auto n = source.read(batch)) all.insert(all.end(), batch.begin(), batch.begin() + static_cast<long>(n));
@@ -126,6 +129,54 @@ TEST(CsvHeader, CommentsBeforeAnEurocHeaderAndUnitsLeftOut) {
   headingd::drivers::LineReader empty_lines(dir.file("c.csv", "# nothing\n\n"));
   EXPECT_FALSE(headingd::drivers::read_header_line(empty_lines));
   EXPECT_EQ(headingd::drivers::companion_kind(dir.file("t.csv", "time_s,heading_deg,moving\n")), "a truth file");
+}
+
+// Parts of one recording replay as the whole; a part that does not go on in time, or is not
+// there when its turn comes, is an InputError naming it after every sample before it.
+TEST(JoinedReplay, PartsInOrderThenOneOutOfTimeThenOneMissing) {
+  TempDir dir;
+  const std::string header = "time_s,gx_dps,gy_dps,gz_dps\n";
+  const auto a = dir.file("a.csv", header + "0.0,0,0,1\n0.5,0,0,2\n");
+  const auto b_plain = dir.file("b.csv",
+                                "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1]\n"
+                                "1000000000,0,0,0.017453292519943295\n");
+  const auto c = dir.file("c.csv", header + "# a comment between\n1.5,0,0,4\n");
+  {
+    JoinedReplaySource joined({a, b_plain, c});
+    const auto all = read_all(joined);
+    ASSERT_EQ(all.size(), 4u);
+    EXPECT_DOUBLE_EQ(all[2].t_s, 1.0);
+    EXPECT_NEAR(all[2].rate_dps.z(), 1.0, 1e-12) << "each part read in its own format";
+    EXPECT_DOUBLE_EQ(all[3].rate_dps.z(), 4.0);
+    EXPECT_EQ(joined.health().samples, 4u);
+    EXPECT_DOUBLE_EQ(joined.health().rate_hz, 2.0);
+    EXPECT_EQ(joined.fraction_read(), 1.0);
+    EXPECT_NE(joined.describe().find("3 recordings joined"), std::string::npos) << joined.describe();
+  }
+  std::vector<Sample> batch(16);
+  {
+    JoinedReplaySource joined({a, c, b_plain});  // b goes back to t = 1.0 after c's 1.5
+    std::size_t good = 0;
+    try {
+      while (const auto n = joined.read(batch)) good += n;
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.file(), b_plain);
+      EXPECT_NE(error.problem().find("is not after the last of " + c), std::string::npos) << error.what();
+    }
+    EXPECT_EQ(good, 3u);
+  }
+  {
+    JoinedReplaySource joined({a, dir.path("gone.csv")});
+    std::size_t good = 0;
+    EXPECT_THROW(
+        {
+          while (const auto n = joined.read(batch)) good += n;
+        },
+        InputError)
+        << "a part missing mid-run is bad input, not a dead sensor";
+    EXPECT_EQ(good, 2u);
+  }
 }
 
 TEST(CsvReplay, SharedBroadRecordingReadsCompletely) {

@@ -119,7 +119,7 @@ TEST(RollingRecording, ARestartWritesBesideTheFileOfTheSameSecond) {
   std::getline(in, kept);
   EXPECT_EQ(kept, "what the run before recorded");
   EXPECT_EQ(names_in(settings.dir).size(), 2u);
-  EXPECT_NE(sink.path().find("Z_1.csv.zst"), std::string::npos) << sink.path();
+  EXPECT_NE(sink.path().find("Z_001.csv.zst"), std::string::npos) << sink.path();
 }
 
 TEST(RollingRecording, DeletesOnlyTheSeriesOwnOldFiles) {
@@ -263,4 +263,25 @@ TEST(RollingRecording, FilesThatGotNothingOntoTheDiskAreRemoved) {
   EXPECT_EQ(sink.files_started(), 4u);
   EXPECT_EQ(sink.files_lost(), 4u);
   EXPECT_EQ(drops.count, 4u);
+}
+
+// Thirteen files within one second of the wall clock (a replay at full speed, restarts in a
+// loop): the names still sort in the order the files were started, as `replay --join` takes them.
+TEST(RollingRecording, NamesSortInStartOrderPastTenInOneSecond) {
+  TempDir dir;
+  RollingSettings settings{dir.path("rec"), 1.0 / 3600.0, 48.0};
+  RollingRecordingSink sink(settings, "", [] { return 1796000000.0; });
+  headingd::core::Estimator estimator(headingd::core::kDefaultEstimatorSettings);
+  for (const auto& s : samples(12.5, 100.0)) sink.add(s, estimator.update(s), estimator);
+  headingd::core::MemorySource source({});
+  sink.finish(estimator, source);
+  const auto names = names_in(settings.dir);
+  ASSERT_EQ(names.size(), 13u);
+  EXPECT_EQ(names[12], "headingd-20261130T005320Z_012.csv.zst");
+  double previous_t = -1.0;
+  for (const auto& name : names) {
+    const auto first_t = read_samples(settings.dir + "/" + name).front().t_s;
+    EXPECT_GT(first_t, previous_t) << name;
+    previous_t = first_t;
+  }
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The rolling recording, `run --record-dir`: files split by sample time, each replays on its own
-# (zstd checks it), together they hold every sample of the run; a second run (a restart) adds
+# (zstd checks it), together they hold every sample of the run and `replay --join` gives the
+# estimates of the run recorded whole; a second run (a restart) adds
 # files and leaves the first run's untouched; with --record-keep-hours 0 only the file being
 # written is kept; --record and --record-dir together are refused.
 set -uo pipefail
@@ -36,6 +37,19 @@ run_samples=$(samples_of run1.log)
 [ "$total" -eq "$run_samples" ] || fail "the files hold $total samples, the run had $run_samples"
 grep -q "continued in $(basename "${files[1]}")" <(zstd -dc "${files[0]}") || fail "the first file does not name the next"
 echo "ok: 3 files, each replays, together the run's $run_samples samples"
+
+# The series replayed as one run (--join) gives the estimates of the same run recorded as one
+# file, byte for byte: the estimator carries on across the splits as it did live.
+"$headingd" run --simulated-chip agv --sim-seed 1 --duration 30 --no-dds --state state-whole --record whole.csv \
+  2>whole-run.log || fail "the run recorded whole: $(cat whole-run.log)"
+"$headingd" replay --no-dds whole.csv --output-rate 0 -o whole.est 2>/dev/null || fail "replay whole.csv"
+"$headingd" replay --no-dds --join rec --output-rate 0 -o joined.est 2>joined.log || fail "--join: $(cat joined.log)"
+cmp -s whole.est joined.est || fail "the joined series' estimates differ from the whole recording's"
+grep -q "3 recordings joined" joined.log || fail "--join's summary: $(head -1 joined.log)"
+"$headingd" replay --no-dds --join "${files[1]}" "${files[0]}" -o /dev/null 2>order.log
+rc=$?
+[ "$rc" -eq 65 ] && grep -q "is not after the last of ${files[1]}" order.log || fail "out of order: exit $rc: $(head -1 order.log)"
+echo "ok: replay --join of the series equals the whole recording's estimates; out of order: 65"
 
 sums=$(sha256sum rec/* | sort)
 rolling_run 2

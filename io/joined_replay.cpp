@@ -1,0 +1,64 @@
+#include "io/joined_replay.hpp"
+
+namespace headingd::drivers {
+
+JoinedReplaySource::JoinedReplaySource(std::vector<std::string> paths) : paths_(std::move(paths)) {
+  if (paths_.empty()) throw OpenError("no recordings to join");
+  current_ = std::make_unique<CsvReplaySource>(paths_.front());
+  description_ = std::to_string(paths_.size()) + " recordings joined, " + current_->describe() + " to " + paths_.back();
+}
+
+void JoinedReplaySource::open_next() {
+  current_.reset();
+  ++index_;
+  current_started_ = false;
+  try {
+    current_ = std::make_unique<CsvReplaySource>(paths_[index_]);
+  } catch (const OpenError& error) {
+    // Mid-run a file that is not there is bad input, not a sensor that died.
+    throw InputError(paths_[index_], 0, std::string("cannot join it: ") + error.what());
+  }
+}
+
+std::size_t JoinedReplaySource::read(std::span<core::Sample> out) {
+  while (current_) {
+    const std::size_t n = current_->read(out);
+    if (n == 0) {
+      if (index_ + 1 >= paths_.size()) {
+        current_.reset();
+        index_ = paths_.size();
+        return 0;
+      }
+      open_next();
+      continue;
+    }
+    if (!current_started_ && samples_ > 0 && !(out[0].t_s > last_t_s_))
+      throw InputError(paths_[index_], 0,
+                       "its first sample (t = " + std::to_string(out[0].t_s) + " s) is not after the last of " +
+                           paths_[index_ - 1] + " (t = " + std::to_string(last_t_s_) +
+                           " s): not the next part of one run (replay them apart, or in the order they were written)");
+    current_started_ = true;
+    if (samples_ == 0) first_t_s_ = out[0].t_s;
+    last_t_s_ = out[n - 1].t_s;
+    samples_ += n;
+    return n;
+  }
+  return 0;
+}
+
+void JoinedReplaySource::close() {
+  if (current_) current_->close();
+  current_.reset();
+  index_ = paths_.size();
+}
+
+core::SourceHealth JoinedReplaySource::health() const { return recording_health(samples_, first_t_s_, last_t_s_); }
+
+std::optional<double> JoinedReplaySource::fraction_read() const {
+  if (!current_) return index_ >= paths_.size() ? std::optional<double>(1.0) : std::nullopt;
+  const auto within = current_->fraction_read();
+  if (!within) return std::nullopt;
+  return (static_cast<double>(index_) + *within) / static_cast<double>(paths_.size());
+}
+
+}  // namespace headingd::drivers

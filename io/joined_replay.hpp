@@ -1,0 +1,44 @@
+#pragma once
+// Recordings replayed one after another as one run: a rolling series (`run --record-dir`) that
+// was split by time, or a recording cut into parts. The estimator carries on from one file into
+// the next, as the daemon did while it wrote them, so the estimates are those of the whole run
+// rather than of a cold start at every file's beginning. Each file must go on in time from the
+// one before; one that does not (files of two runs, or given out of order) is an InputError
+// naming both files, after every sample before it.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/sample_source.hpp"
+#include "io/csv_replay.hpp"
+
+namespace headingd::drivers {
+
+class JoinedReplaySource final : public core::SampleSource {
+ public:
+  // Opens the first file (OpenError, InputError); the others when their turn comes, where a
+  // file that cannot be opened is an InputError naming it (the samples before it stand).
+  explicit JoinedReplaySource(std::vector<std::string> paths);
+  std::size_t read(std::span<core::Sample> out) override;
+  void close() override;
+  std::string describe() const override { return description_; }  // fixed at open: read-ahead asks from its thread
+  core::SourceHealth health() const override;
+  // The files done and the current one's share of itself, over all of them.
+  std::optional<double> fraction_read() const;
+
+ private:
+  void open_next();
+
+  std::vector<std::string> paths_;
+  std::size_t index_ = 0;
+  std::unique_ptr<CsvReplaySource> current_;
+  bool current_started_ = false;
+  std::string description_;
+  std::uint64_t samples_ = 0;
+  double first_t_s_ = 0.0;
+  double last_t_s_ = 0.0;
+};
+
+}  // namespace headingd::drivers
