@@ -56,7 +56,14 @@ int run_replay(const ReplayOptions& options) {
     if (const int code =
             report_input_errors([&] { joined = std::make_unique<drivers::JoinedReplaySource>(options.joined); }))
       return code;
-    return run_read_ahead(*joined, job);
+    const int code = run_read_ahead(*joined, job);
+    for (const auto& boundary : joined->run_boundaries())
+      std::fprintf(stderr,
+                   "headingd: --join: %s starts another run of the recorder (the file before it ends its run); "
+                   "the estimator carried on across the %.1f s between, where the daemon had restarted from its "
+                   "state file\n",
+                   boundary.file.c_str(), boundary.gap_s);
+    return code;
   }
   std::unique_ptr<drivers::CsvReplaySource> source;
   if (const int code = report_input_errors([&] { source = std::make_unique<drivers::CsvReplaySource>(options.input); }))

@@ -208,7 +208,10 @@ std::size_t CsvReplaySource::read(std::span<core::Sample> out) {
       const auto text = trim(line);
       const bool content = !text.empty() && text.front() != '#';
       lines_.count_line(content);
-      if (!content) continue;  // blank and comment lines
+      if (!content) {  // blank and comment lines
+        if (!text.empty()) last_comment_.assign(trim(text.substr(1)));
+        continue;
+      }
       parse_line(text, out[count]);
       ++count;
       ++samples_;

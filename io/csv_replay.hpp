@@ -40,6 +40,9 @@ class CsvReplaySource final : public core::SampleSource {
   bool has_temperature() const { return temp_column_.has_value(); }
   // The '#' comment lines before the header (provenance), without the '#'.
   const std::vector<std::string>& comments() const { return comments_; }
+  // The last '#' line after the header read so far, without the '#' ("" if none): at the end of
+  // a recording, the line a recorder closed it with.
+  const std::string& last_comment() const { return last_comment_; }
 
  private:
   bool next_line(std::string_view& line);
@@ -59,6 +62,7 @@ class CsvReplaySource final : public core::SampleSource {
   Format format_ = Format::Native;
   std::vector<std::string> column_names_;
   std::vector<std::string> comments_;
+  std::string last_comment_;
   std::size_t time_column_ = 0;
   std::size_t rate_columns_[3] = {0, 0, 0};
   std::optional<std::size_t> temp_column_;

@@ -1,5 +1,7 @@
 #include "io/joined_replay.hpp"
 
+#include "io/native_csv.hpp"
+
 namespace headingd::drivers {
 
 JoinedReplaySource::JoinedReplaySource(std::vector<std::string> paths) : paths_(std::move(paths)) {
@@ -9,6 +11,7 @@ JoinedReplaySource::JoinedReplaySource(std::vector<std::string> paths) : paths_(
 }
 
 void JoinedReplaySource::open_next() {
+  after_run_end_ = current_->last_comment().starts_with(app::kEndOfRunComment);
   current_.reset();
   ++index_;
   current_started_ = false;
@@ -37,6 +40,7 @@ std::size_t JoinedReplaySource::read(std::span<core::Sample> out) {
                        "its first sample (t = " + std::to_string(out[0].t_s) + " s) is not after the last of " +
                            paths_[index_ - 1] + " (t = " + std::to_string(last_t_s_) +
                            " s): not the next part of one run (replay them apart, or in the order they were written)");
+    if (!current_started_ && after_run_end_) boundaries_.push_back({paths_[index_], out[0].t_s - last_t_s_});
     current_started_ = true;
     if (samples_ == 0) first_t_s_ = out[0].t_s;
     last_t_s_ = out[n - 1].t_s;

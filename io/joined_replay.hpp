@@ -27,6 +27,14 @@ class JoinedReplaySource final : public core::SampleSource {
   core::SourceHealth health() const override;
   // The files done and the current one's share of itself, over all of them.
   std::optional<double> fraction_read() const;
+  // Where one run of the recorder ended and the next file began another (the file before closes
+  // with the end-of-run line RecordingSink writes, not "continued in …"): the daemon restarted
+  // there, from its state file, where this replay carries the estimator on across the gap.
+  struct RunBoundary {
+    std::string file;  // the first file of the next run
+    double gap_s;      // from the last sample before it to its first
+  };
+  const std::vector<RunBoundary>& run_boundaries() const { return boundaries_; }
 
  private:
   void open_next();
@@ -35,6 +43,8 @@ class JoinedReplaySource final : public core::SampleSource {
   std::size_t index_ = 0;
   std::unique_ptr<CsvReplaySource> current_;
   bool current_started_ = false;
+  bool after_run_end_ = false;  // the file before the current one ended a run
+  std::vector<RunBoundary> boundaries_;
   std::string description_;
   std::uint64_t samples_ = 0;
   double first_t_s_ = 0.0;

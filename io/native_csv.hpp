@@ -15,6 +15,9 @@ namespace headingd::app {
 inline constexpr std::string_view kNativeTimeColumn = "time_s";
 inline constexpr std::string_view kNativeRateColumns[3] = {"gx_dps", "gy_dps", "gz_dps"};
 inline constexpr std::string_view kNativeTempColumn = "temp_c";
+// How the recorder's last line at the end of a run begins ("# measured output rate 378.800 Hz; …");
+// a file split off mid-run ends "# continued in NAME" instead.
+inline constexpr const char* kEndOfRunComment = "measured output rate";
 
 // How many decimals the time and temperature get. The rates are written exactly (the shortest
 // text of the double), so a replay parses the very values that were recorded.

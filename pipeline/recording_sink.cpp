@@ -25,12 +25,12 @@ void RecordingSink::add(const core::Sample& sample, const core::Estimate& /*esti
 void RecordingSink::finish(const core::Estimator& /*estimator*/, const core::SampleSource& source) {
   const core::SourceHealth health = source.health();
   char text[200];
-  std::snprintf(text, sizeof text, "# measured output rate %.3f Hz; %llu samples, %llu lost", health.rate_hz,
+  std::snprintf(text, sizeof text, "# %s %.3f Hz; %llu samples, %llu lost", app::kEndOfRunComment, health.rate_hz,
                 static_cast<unsigned long long>(health.samples), static_cast<unsigned long long>(health.lost_samples));
   if (samples_written_ != health.samples)  // the last file of a rolling series holds part of the run
-    std::snprintf(text, sizeof text,
-                  "# measured output rate %.3f Hz; the run: %llu samples, %llu lost; this file: %llu", health.rate_hz,
-                  static_cast<unsigned long long>(health.samples), static_cast<unsigned long long>(health.lost_samples),
+    std::snprintf(text, sizeof text, "# %s %.3f Hz; the run: %llu samples, %llu lost; this file: %llu",
+                  app::kEndOfRunComment, health.rate_hz, static_cast<unsigned long long>(health.samples),
+                  static_cast<unsigned long long>(health.lost_samples),
                   static_cast<unsigned long long>(samples_written_));
   writer_.comment(text);
   writer_.close();

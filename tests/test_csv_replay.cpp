@@ -152,6 +152,19 @@ TEST(JoinedReplay, PartsInOrderThenOneOutOfTimeThenOneMissing) {
     EXPECT_DOUBLE_EQ(joined.health().rate_hz, 2.0);
     EXPECT_EQ(joined.fraction_read(), 1.0);
     EXPECT_NE(joined.describe().find("3 recordings joined"), std::string::npos) << joined.describe();
+    EXPECT_TRUE(joined.run_boundaries().empty());
+  }
+  {
+    // The recorder's end-of-run line closing a file: the next one is another run.
+    const auto ended =
+        dir.file("ended.csv", header + "0.0,0,0,1\n0.5,0,0,2\n# measured output rate 2.000 Hz; 2 samples, 0 lost\n");
+    const auto split = dir.file("split.csv", header + "2.0,0,0,1\n# continued in later.csv\n");
+    const auto later = dir.file("later.csv", header + "2.5,0,0,1\n");
+    JoinedReplaySource joined({ended, split, later});
+    EXPECT_EQ(read_all(joined).size(), 4u);
+    ASSERT_EQ(joined.run_boundaries().size(), 1u);
+    EXPECT_EQ(joined.run_boundaries()[0].file, split);
+    EXPECT_DOUBLE_EQ(joined.run_boundaries()[0].gap_s, 1.5);
   }
   std::vector<Sample> batch(16);
   {
