@@ -63,7 +63,10 @@ int run_replay(const ReplayOptions& options) {
                    "the estimator carried on across the %.1f s between, where the daemon had restarted from its "
                    "state file\n",
                    boundary.file.c_str(), boundary.gap_s);
-    return code;
+    for (const auto& part : joined->damaged_parts())
+      std::fprintf(stderr, "headingd: --join: %s (what it held before that was replayed; the replay went on)\n",
+                   part.error.c_str());
+    return code == kExitOk && !joined->damaged_parts().empty() ? kExitDataError : code;
   }
   std::unique_ptr<drivers::CsvReplaySource> source;
   if (const int code = report_input_errors([&] { source = std::make_unique<drivers::CsvReplaySource>(options.input); }))

@@ -10,43 +10,57 @@ JoinedReplaySource::JoinedReplaySource(std::vector<std::string> paths) : paths_(
   description_ = std::to_string(paths_.size()) + " recordings joined, " + current_->describe() + " to " + paths_.back();
 }
 
+// The next file that opens; one that cannot (missing, a damaged header) is a damaged part.
 void JoinedReplaySource::open_next() {
-  after_run_end_ = current_->last_comment().starts_with(app::kEndOfRunComment);
+  if (current_) after_run_end_ = current_->last_comment().starts_with(app::kEndOfRunComment);
   current_.reset();
-  ++index_;
   current_started_ = false;
-  try {
-    current_ = std::make_unique<CsvReplaySource>(paths_[index_]);
-  } catch (const OpenError& error) {
-    // Mid-run a file that is not there is bad input, not a sensor that died.
-    throw InputError(paths_[index_], 0, std::string("cannot join it: ") + error.what());
+  while (!current_ && ++index_ < paths_.size()) {
+    try {
+      current_ = std::make_unique<CsvReplaySource>(paths_[index_]);
+    } catch (const OpenError& error) {
+      damaged_.push_back({paths_[index_], error.what()});
+    } catch (const InputError& error) {
+      damaged_.push_back({paths_[index_], error.what()});
+    }
   }
 }
 
 std::size_t JoinedReplaySource::read(std::span<core::Sample> out) {
   while (current_) {
-    const std::size_t n = current_->read(out);
+    std::size_t n = 0;
+    try {
+      n = current_->read(out);
+    } catch (const InputError& error) {
+      // A part cut short (a file lost to a full disk keeps what fit) or damaged: its good samples
+      // were replayed; the rest of the series still is. The last part's error ends the replay as
+      // any recording's does.
+      if (index_ + 1 >= paths_.size()) throw;
+      damaged_.push_back({paths_[index_], error.what()});
+      after_run_end_ = false;
+      current_.reset();
+      current_started_ = false;
+      open_next();
+      continue;
+    }
     if (n == 0) {
-      if (index_ + 1 >= paths_.size()) {
-        current_.reset();
-        index_ = paths_.size();
-        return 0;
-      }
       open_next();
       continue;
     }
     if (!current_started_ && samples_ > 0 && !(out[0].t_s > last_t_s_))
       throw InputError(paths_[index_], 0,
                        "its first sample (t = " + std::to_string(out[0].t_s) + " s) is not after the last of " +
-                           paths_[index_ - 1] + " (t = " + std::to_string(last_t_s_) +
+                           last_part_ + " (t = " + std::to_string(last_t_s_) +
                            " s): not the next part of one run (replay them apart, or in the order they were written)");
     if (!current_started_ && after_run_end_) boundaries_.push_back({paths_[index_], out[0].t_s - last_t_s_});
+    if (!current_started_) last_part_ = paths_[index_];
     current_started_ = true;
     if (samples_ == 0) first_t_s_ = out[0].t_s;
     last_t_s_ = out[n - 1].t_s;
     samples_ += n;
     return n;
   }
+  index_ = paths_.size();
   return 0;
 }
 

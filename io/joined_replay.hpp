@@ -18,8 +18,11 @@ namespace headingd::drivers {
 
 class JoinedReplaySource final : public core::SampleSource {
  public:
-  // Opens the first file (OpenError, InputError); the others when their turn comes, where a
-  // file that cannot be opened is an InputError naming it (the samples before it stand).
+  // Opens the first file (OpenError, InputError); the others when their turn comes. A later part
+  // that cannot be opened, or whose reading fails (cut short: a rolling file lost to a full disk
+  // keeps what fit), is a damaged part: its good samples are replayed, the replay goes on with the
+  // next, and damaged_parts() says what was wrong. The last part's read error is thrown as any
+  // recording's is.
   explicit JoinedReplaySource(std::vector<std::string> paths);
   std::size_t read(std::span<core::Sample> out) override;
   void close() override;
@@ -35,6 +38,11 @@ class JoinedReplaySource final : public core::SampleSource {
     double gap_s;      // from the last sample before it to its first
   };
   const std::vector<RunBoundary>& run_boundaries() const { return boundaries_; }
+  struct DamagedPart {
+    std::string file;
+    std::string error;
+  };
+  const std::vector<DamagedPart>& damaged_parts() const { return damaged_; }
 
  private:
   void open_next();
@@ -45,7 +53,9 @@ class JoinedReplaySource final : public core::SampleSource {
   bool current_started_ = false;
   bool after_run_end_ = false;  // the file before the current one ended a run
   std::vector<RunBoundary> boundaries_;
+  std::vector<DamagedPart> damaged_;
   std::string description_;
+  std::string last_part_;  // the file the last sample came from
   std::uint64_t samples_ = 0;
   double first_t_s_ = 0.0;
   double last_t_s_ = 0.0;

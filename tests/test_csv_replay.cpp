@@ -131,8 +131,8 @@ TEST(CsvHeader, CommentsBeforeAnEurocHeaderAndUnitsLeftOut) {
   EXPECT_EQ(headingd::drivers::companion_kind(dir.file("t.csv", "time_s,heading_deg,moving\n")), "a truth file");
 }
 
-// Parts of one recording replay as the whole; a part that does not go on in time, or is not
-// there when its turn comes, is an InputError naming it after every sample before it.
+// Parts of one recording replay as the whole; a part that does not go on in time is an
+// InputError naming it after every sample before it; a damaged part is named and passed.
 TEST(JoinedReplay, PartsInOrderThenOneOutOfTimeThenOneMissing) {
   TempDir dir;
   const std::string header = "time_s,gx_dps,gy_dps,gz_dps\n";
@@ -180,15 +180,31 @@ TEST(JoinedReplay, PartsInOrderThenOneOutOfTimeThenOneMissing) {
     EXPECT_EQ(good, 3u);
   }
   {
-    JoinedReplaySource joined({a, dir.path("gone.csv")});
+    // Damaged parts inside the series (one cut short, one gone, one with a broken header) are
+    // named; what they held before the damage is replayed and so is every part after them.
+    const auto cut = dir.file("cut.csv", header + "0.7,0,0,5\n0.8,0,0,5\n0.9,0,0");
+    const auto broken = dir.file("broken.csv", "tme_s,gx\n1.1,0\n");
+    JoinedReplaySource joined({a, cut, dir.path("gone.csv"), broken, c});
+    const auto all = read_all(joined);
+    ASSERT_EQ(all.size(), 5u) << "a's 2, cut's 2 whole lines, c's 1";
+    EXPECT_DOUBLE_EQ(all[3].t_s, 0.8);
+    EXPECT_DOUBLE_EQ(all[4].t_s, 1.5);
+    ASSERT_EQ(joined.damaged_parts().size(), 3u);
+    EXPECT_EQ(joined.damaged_parts()[0].file, cut);
+    EXPECT_NE(joined.damaged_parts()[0].error.find("truncated"), std::string::npos) << joined.damaged_parts()[0].error;
+    EXPECT_EQ(joined.damaged_parts()[1].file, dir.path("gone.csv"));
+    EXPECT_EQ(joined.damaged_parts()[2].file, broken);
+  }
+  {
+    // The last part's error ends the replay as a single recording's does, after its good samples.
+    JoinedReplaySource joined({a, dir.file("cut_last.csv", header + "0.7,0,0,5\n0.8,0,0")});
     std::size_t good = 0;
     EXPECT_THROW(
         {
           while (const auto n = joined.read(batch)) good += n;
         },
-        InputError)
-        << "a part missing mid-run is bad input, not a dead sensor";
-    EXPECT_EQ(good, 2u);
+        InputError);
+    EXPECT_EQ(good, 3u);
   }
 }
 

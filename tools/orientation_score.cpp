@@ -41,6 +41,8 @@ struct TruthLayout {
   bool comment_header = false;
 };
 
+constexpr const char* kEurocBias[3] = {"b_w_RS_S_x", "b_w_RS_S_y", "b_w_RS_S_z"};
+
 std::optional<TruthLayout> layout_of(const std::vector<std::string>& names) {
   const auto has = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
   if (has("time_s") && has("qw") && has("qx") && has("qy") && has("qz"))
@@ -71,13 +73,20 @@ OrientationScore score_orientation(const std::string& estimates_path, const std:
   nan_allowed.empty_is_nan = true;
   TableOptions truth_options = nan_allowed;
   truth_options.comment_header = layout->comment_header;
+  score.has_bias =
+      layout->comment_header && std::all_of(std::begin(kEurocBias), std::end(kEurocBias), [&](const char* b) {
+        return std::find(truth_names.begin(), truth_names.end(), b) != truth_names.end();
+      });
   std::vector<std::string> wanted = layout->columns;
   if (score.has_moving) wanted.emplace_back("moving");
+  const std::size_t bias_column = wanted.size();
+  if (score.has_bias) wanted.insert(wanted.end(), std::begin(kEurocBias), std::end(kEurocBias));
   auto truth_columns = read_table(truth_path, wanted, truth_options);
   for (double& t : truth_columns[0]) t *= layout->seconds_per_unit;
   const QuatSeries truth = quaternions(truth_columns);
-  const auto estimate_columns =
-      read_table(estimates_path, {"time_s", "qw", "qx", "qy", "qz", "heading_sigma_deg"}, nan_allowed);
+  std::vector<std::string> estimate_names{"time_s", "qw", "qx", "qy", "qz", "heading_sigma_deg"};
+  if (score.has_bias) estimate_names.insert(estimate_names.end(), {"bias_x_dps", "bias_y_dps", "bias_z_dps"});
+  const auto estimate_columns = read_table(estimates_path, estimate_names, nan_allowed);
   const QuatSeries estimate = quaternions(estimate_columns);
   const std::vector<double>& sigma = estimate_columns[5];
   if (truth.t_s.empty()) return score;
@@ -91,6 +100,7 @@ OrientationScore score_orientation(const std::string& estimates_path, const std:
     while (k + 1 < truth.t_s.size() && truth.t_s[k + 1] <= t + kSameTimeS) ++k;
     Quat q_true;
     std::size_t nearer = k;
+    double w = 0.0;  // how far towards row k + 1
     if (std::abs(truth.t_s[k] - t) <= kSameTimeS) {
       if (!truth.valid[k]) continue;
       q_true = truth.q[k];
@@ -98,9 +108,22 @@ OrientationScore score_orientation(const std::string& estimates_path, const std:
       if (k + 1 >= truth.t_s.size() || !truth.valid[k] || !truth.valid[k + 1] ||
           truth.t_s[k + 1] - truth.t_s[k] > max_truth_gap_s)
         continue;  // no truth close enough on both sides: not scored rather than guessed
-      const double w = (t - truth.t_s[k]) / (truth.t_s[k + 1] - truth.t_s[k]);
+      w = (t - truth.t_s[k]) / (truth.t_s[k + 1] - truth.t_s[k]);
       q_true = truth.q[k].slerp(w, truth.q[k + 1]);
       if (w > 0.5) nearer = k + 1;
+    }
+    if (score.has_bias) {
+      Eigen::Vector3d error_dps;
+      for (Eigen::Index a = 0; a < 3; ++a) {
+        const auto& b = truth_columns[bias_column + static_cast<std::size_t>(a)];
+        const double truth_rad_s = w > 0.0 ? (1.0 - w) * b[k] + w * b[k + 1] : b[k];
+        error_dps[a] = estimate_columns[6 + static_cast<std::size_t>(a)][i] - core::rad_to_deg(truth_rad_s);
+      }
+      if (error_dps.allFinite()) {
+        score.bias_sum_sq_dps2 += error_dps.cwiseAbs2();
+        score.bias_last_error_dps = error_dps;
+        ++score.bias_rows;
+      }
     }
     if (!aligned) {
       align = q_true * estimate.q[i].inverse();

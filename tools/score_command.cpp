@@ -91,6 +91,15 @@ int score_against_orientation(const ScoreOptions& options) {
                   static_cast<unsigned long long>(score.moving.count()));
     std::printf("\n");
   }
+  if (score.has_bias && score.bias_rows > 0) {
+    const Eigen::Vector3d rms = (score.bias_sum_sq_dps2 / static_cast<double>(score.bias_rows)).cwiseSqrt() * 1e3;
+    const Eigen::Vector3d last = score.bias_last_error_dps * 1e3;
+    std::printf(
+        "# %s: bias minus the truth's (mdps) RMS x %.2f y %.2f z %.2f, at the end x %+.2f y %+.2f z %+.2f "
+        "(%llu rows)\n",
+        label.c_str(), rms.x(), rms.y(), rms.z(), last.x(), last.y(), last.z(),
+        static_cast<unsigned long long>(score.bias_rows));
+  }
   return finish_standard_output();
 }
 

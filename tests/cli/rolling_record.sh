@@ -100,3 +100,10 @@ resumed=$(samples_in "${files[@]:1}") || fail "$resumed"
 zstd -dc "${files[-1]}" | tail -1 | grep -q "the run: [0-9]* samples, 0 lost; this file: [0-9]*" ||
   fail "the last file's closing line: $(zstd -dc "${files[-1]}" | tail -1)"
 echo "ok: a full disk lost one file; after room came back the series resumed ($resumed samples in $((${#files[@]} - 1)) files), exit 0"
+# Joined, the series replays what the lost file kept and everything after it, naming the damage (65).
+"$headingd" replay --no-dds --join rec-full --output-rate 0 -o full.est 2>full-join.log
+rc=$?
+[ "$rc" -eq 65 ] && grep -qF -- "--join: ${files[0]}" full-join.log || fail "--join over the lost file: exit $rc: $(cat full-join.log)"
+rows=$(grep -c '^[0-9]' full.est)
+[ "$rows" -gt "$resumed" ] || fail "--join gave $rows rows, the resumed files alone hold $resumed"
+echo "ok: --join over the lost file: its $((rows - resumed)) samples and the rest replayed, the damage named, exit 65"
