@@ -6,6 +6,7 @@
 # written is kept; --record and --record-dir together are refused.
 set -uo pipefail
 headingd="$1"
+root="$2"
 dir="$(mktemp -d)"
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -71,7 +72,8 @@ echo "ok: --record with --record-dir refused (64)"
 # (it keeps what fit), the run goes on publishing; once the filler is removed a new file starts
 # one split (7.2 s of samples) after the loss and records to the end of the run (in real time:
 # the filler goes once the loss is in the log).
-printf '[dds]\ndomain_id = 68\n' >dds.toml
+# DDS on loopback only (the project's profile), in a domain of this test's own.
+printf '[dds]\ndomain_id = 68\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$root" >dds.toml
 # shellcheck disable=SC2016
 unshare --mount --propagation private bash -c '
   mkdir -p full && mount -t tmpfs -o size=256k rolling-test full || exit 90
