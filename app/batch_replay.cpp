@@ -11,8 +11,8 @@
 
 #include "io/companion_file.hpp"
 #include "io/csv_out.hpp"
-#include "io/csv_replay.hpp"
 #include "io/input_error.hpp"
+#include "io/joined_replay.hpp"
 #include "io/line_reader.hpp"
 #include "pipeline/estimates_sink.hpp"
 #include "pipeline/pipeline.hpp"
@@ -33,6 +33,20 @@ bool is_recording_name(const std::string& name) {
       return true;
   }
   return false;
+}
+
+// One RFC 4180 field: quoted, quotes doubled, so a name with a comma or a newline stays one field.
+std::string quoted(const std::string& text) {
+  std::string field = "\"";
+  for (const char c : text) field += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return field + "\"";
+}
+
+std::string number(double value, const char* format) {
+  if (!std::isfinite(value)) return "-";
+  char text[32];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
 }
 
 // The bias z over the run, from the first accepted still segment on (before it, it is the start value).
@@ -56,17 +70,20 @@ struct Row {
   int code = kExitOk;
 };
 
-Row replay_one(const std::string& input, const std::string& output, const BatchOptions& options) {
-  Row row;
-  row.file = input;
-  row.output = output;
+// The row's name: the recording, or for a folder joined the folder and how many.
+std::string label_of(const std::vector<FoundRecording>& group) {
+  if (group.size() == 1) return group.front().path;
+  return fs::path(group.front().path).parent_path().string() + "/ (" + std::to_string(group.size()) + " joined)";
+}
+
+// One run of the source (a recording, or a folder's joined) through an estimator of its own.
+Row replay_run(drivers::JoinedReplaySource& source, Row row, const BatchOptions& options) {
   try {
-    drivers::CsvReplaySource source(input);
     pipeline::PipelineOptions pipeline_options;
     pipeline_options.batch = 4096;
     pipeline_options.stop = &stop_flag();
     pipeline::Pipeline line(source, std::make_unique<core::Estimator>(options.settings), pipeline_options);
-    pipeline::EstimatesSink estimates(output, options.output_rate_hz, 0.0, options.settings.segments.segment_s);
+    pipeline::EstimatesSink estimates(row.output, options.output_rate_hz, 0.0, options.settings.segments.segment_s);
     BiasRange range;
     line.add_sink(estimates);
     line.add_sink(range);
@@ -91,15 +108,10 @@ Row replay_one(const std::string& input, const std::string& output, const BatchO
     if (d.gaps_bridged > 0)  // a fleet's recorder that loses samples shows in the table, not only in each log
       notes.push_back(std::to_string(d.gaps_bridged) + " gaps in the samples bridged");
     if (outcome.estimator_fault) notes.push_back("estimator fault");
+    for (const auto& part : source.damaged_parts()) notes.push_back("damaged part passed: " + part.error);
     for (const auto& n : notes) row.warnings += (row.warnings.empty() ? "" : "; ") + n;
-    if (outcome.ending == pipeline::Ending::BadInput) row.code = kExitDataError;
+    if (outcome.ending == pipeline::Ending::BadInput || !source.damaged_parts().empty()) row.code = kExitDataError;
     if (outcome.ending == pipeline::Ending::OutputFailed) row.code = kExitCantCreate;
-  } catch (const drivers::OpenError& error) {
-    row.warnings = error.what();
-    row.code = kExitNoInput;
-  } catch (const drivers::InputError& error) {
-    row.warnings = error.what();
-    row.code = kExitDataError;
   } catch (const OutputError& error) {
     row.warnings = error.what();
     row.code = kExitCantCreate;
@@ -107,18 +119,43 @@ Row replay_one(const std::string& input, const std::string& output, const BatchO
   return row;
 }
 
-// One RFC 4180 field: quoted, quotes doubled, so a name with a comma or a newline stays one field.
-std::string quoted(const std::string& text) {
-  std::string field = "\"";
-  for (const char c : text) field += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return field + "\"";
-}
-
-std::string number(double value, const char* format) {
-  if (!std::isfinite(value)) return "-";
-  char text[32];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
+// A recording, or a folder joined: a row per run of the recorder in it (with --join a folder's
+// series splits where a run ended: a restart, a reboot), each with its own estimates file named
+// after the run's first recording.
+std::vector<Row> replay_group(const std::vector<FoundRecording>& group, const BatchOptions& options) {
+  Row first;
+  first.file = label_of(group);
+  first.output = estimates_path_for(group.front(), options.output_dir);
+  std::vector<std::string> paths;
+  paths.reserve(group.size());
+  for (const auto& f : group) paths.push_back(f.path);
+  std::vector<Row> rows;
+  try {
+    drivers::JoinedReplaySource source(paths, options.join);
+    rows.push_back(replay_run(source, first, options));
+    std::vector<std::string> run_starts{group.front().path};
+    while (!stop_flag().load() && source.next_run()) {
+      const auto start = std::find_if(group.begin(), group.end(),
+                                      [&](const FoundRecording& f) { return f.path == source.current_file(); });
+      Row next;
+      next.output = estimates_path_for(*start, options.output_dir);
+      run_starts.push_back(start->path);
+      rows.push_back(replay_run(source, next, options));
+    }
+    if (rows.size() > 1)
+      for (std::size_t i = 0; i < rows.size(); ++i)
+        rows[i].file = fs::path(run_starts[i]).parent_path().string() + "/ run " + std::to_string(i + 1) + " from " +
+                       fs::path(run_starts[i]).filename().string();
+  } catch (const drivers::OpenError& error) {
+    first.warnings = error.what();
+    first.code = kExitNoInput;
+    rows = {first};
+  } catch (const drivers::InputError& error) {
+    first.warnings = error.what();
+    first.code = kExitDataError;
+    rows = {first};
+  }
+  return rows;
 }
 
 }  // namespace
@@ -215,20 +252,38 @@ int batch_settings(const std::optional<std::string>& config_path, const std::opt
   return apply_method_option(method, settings) ? 0 : kExitUsage;
 }
 
+std::vector<std::vector<FoundRecording>> group_by_folder(const std::vector<FoundRecording>& files) {
+  std::vector<std::vector<FoundRecording>> groups;
+  std::map<std::string, std::size_t> index;
+  for (const auto& f : files) {
+    const std::string folder = fs::path(f.path).parent_path().lexically_normal().string();
+    const auto [it, fresh] = index.emplace(folder, groups.size());
+    if (fresh) groups.emplace_back();
+    groups[it->second].push_back(f);
+  }
+  return groups;
+}
+
 int run_batch_replay(const BatchOptions& options) {
-  const std::vector<FoundRecording> files = expand_inputs(options.inputs, options.recursive);
+  const std::vector<FoundRecording> files =
+      options.found.empty() ? expand_inputs(options.inputs, options.recursive) : options.found;
   if (files.empty()) {
     if (!options.inputs.empty()) return kExitNoInput;
     std::fprintf(stderr, "headingd: replay: no recordings\n");
     return kExitNoInput;
   }
+  std::vector<std::vector<FoundRecording>> groups;
+  if (options.join)
+    groups = group_by_folder(files);
+  else
+    for (const auto& f : files) groups.push_back({f});
   // Two recordings writing one estimates file would be a silent loss: refuse before starting.
   std::map<std::string, std::string> outputs;
-  for (const auto& f : files) {
-    const std::string out = estimates_path_for(f, options.output_dir);
-    if (const auto [it, fresh] = outputs.emplace(out, f.path); !fresh) {
+  for (const auto& group : groups) {
+    const std::string out = estimates_path_for(group.front(), options.output_dir);
+    if (const auto [it, fresh] = outputs.emplace(out, group.front().path); !fresh) {
       std::fprintf(stderr, "headingd: %s and %s would both write %s; give distinct names or no --output-dir\n",
-                   it->second.c_str(), f.path.c_str(), out.c_str());
+                   it->second.c_str(), group.front().path.c_str(), out.c_str());
       return kExitUsage;
     }
   }
@@ -244,21 +299,24 @@ int run_batch_replay(const BatchOptions& options) {
     }
   }
   install_stop_signals();
-  std::vector<Row> rows(files.size());
-  for (std::size_t i = 0; i < files.size(); ++i) {  // what a signal leaves undone says so
-    rows[i].file = files[i].path;
-    rows[i].warnings = "not replayed: stopped by a signal";
+  std::vector<std::vector<Row>> group_rows(groups.size());
+  for (std::size_t i = 0; i < groups.size(); ++i) {  // what a signal leaves undone says so
+    group_rows[i].resize(1);
+    group_rows[i][0].file = label_of(groups[i]);
+    group_rows[i][0].warnings = "not replayed: stopped by a signal";
   }
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
-    for (std::size_t i = next++; i < files.size() && !stop_flag().load(); i = next++)
-      rows[i] = replay_one(files[i].path, estimates_path_for(files[i], options.output_dir), options);
+    for (std::size_t i = next++; i < groups.size() && !stop_flag().load(); i = next++)
+      group_rows[i] = replay_group(groups[i], options);
   };
   std::vector<std::thread> workers;
-  const unsigned jobs = std::clamp<unsigned>(options.jobs, 1, static_cast<unsigned>(files.size()));
+  const unsigned jobs = std::clamp<unsigned>(options.jobs, 1, static_cast<unsigned>(groups.size()));
   for (unsigned j = 1; j < jobs; ++j) workers.emplace_back(work);
   work();
   for (auto& w : workers) w.join();
+  std::vector<Row> rows;
+  for (auto& g : group_rows) rows.insert(rows.end(), g.begin(), g.end());
 
   std::printf("%-40s %8s %10s %6s %9s %10s %21s  %s\n", "file", "hours", "samples", "still", "sigma_deg", "bias_z_dps",
               "bias_z_range_dps", "warnings");

@@ -10,6 +10,13 @@
 
 namespace headingd::app {
 
+// A recording to replay, and the folders between the directory named and it ("" for a file named,
+// or one found at the directory's top): with --output-dir its estimates go there, below it.
+struct FoundRecording {
+  std::string path;
+  std::string under;
+};
+
 struct BatchOptions {
   std::vector<std::string> inputs;  // files, or directories (their *.csv, *.csv.zst, *.csv.gz)
   bool recursive = false;           // directories read at every depth, not one level
@@ -19,19 +26,20 @@ struct BatchOptions {
   std::optional<std::string> summary_csv;  // the table as CSV too
   core::EstimatorSettings settings = core::kDefaultEstimatorSettings;
   double output_rate_hz = 10.0;
-};
-
-// A recording to replay, and the folders between the directory named and it ("" for a file named,
-// or one found at the directory's top): with --output-dir its estimates go there, below it.
-struct FoundRecording {
-  std::string path;
-  std::string under;
+  // Each folder's recordings joined into one run, in name order (a vehicle's rolling series): one
+  // row per folder, its estimates named after its first file (drivers::JoinedReplaySource).
+  bool join = false;
+  std::vector<FoundRecording> found;  // already expanded (then `inputs` is not read again)
 };
 
 // The recordings `inputs` names, in order, directories expanded (sorted; at every depth when
 // `recursive`, links to directories not followed); empty after saying why on stderr when one
 // is missing or unreadable.
 std::vector<FoundRecording> expand_inputs(const std::vector<std::string>& inputs, bool recursive = false);
+
+// The recordings grouped by the folder they are in, each group in the order found (folders in
+// the order their first recording came): what `--join` replays as one run each.
+std::vector<std::vector<FoundRecording>> group_by_folder(const std::vector<FoundRecording>& files);
 
 // Where a recording's estimates go: <dir>/<name without .zst/.gz/.csv>.estimates.csv, dir being
 // the recording's own, or the output directory with the recording's `under` below it.

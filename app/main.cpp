@@ -68,7 +68,8 @@ int main(int argc, char** argv) {
   bool join = false;
   replay_cmd->add_flag("--join", join,
                        "Several recordings (or a directory's, in name order: a rolling series) as one run, the "
-                       "estimator carrying on from each file into the next; each must go on in time");
+                       "estimator carrying on from each file into the next; with several folders, each folder one "
+                       "run, one table row");
   replay_cmd->add_option("--method", replay.method, "Bias method: auto (default), or the paper's a, b, c");
   replay_cmd->add_option("-o,--output", replay.output, "Estimates CSV ('-' = standard output)");
   replay_cmd->add_option("--output-rate", replay.output_rate_hz, "Rows per second; 0 = every sample")
@@ -194,14 +195,27 @@ int main(int argc, char** argv) {
     const bool batch_options =
         jobs_option->count() > 0 || output_dir_option->count() > 0 || summary_option->count() > 0;
     if (join) {
-      if (batch_options || std::find(replay_inputs.begin(), replay_inputs.end(), "-") != replay_inputs.end()) {
-        std::fprintf(stderr,
-                     "headingd: --join replays files as one run: --jobs, --output-dir, --summary-csv and "
-                     "'-' do not apply\n");
+      if (std::find(replay_inputs.begin(), replay_inputs.end(), "-") != replay_inputs.end()) {
+        std::fprintf(stderr, "headingd: --join replays files: '-' does not apply\n");
         return app::kExitUsage;
       }
       const std::vector<app::FoundRecording> found = app::expand_inputs(replay_inputs, batch.recursive);
       if (found.empty()) return app::kExitNoInput;
+      // One folder's recordings: one run, one replay (-o, --plot). Several folders (a fleet's
+      // rolling series, `-r`), or the batch's options: a row per folder, each joined.
+      if (batch_options || app::group_by_folder(found).size() > 1) {
+        if (!replay_plot.empty() || replay.output != "-") {
+          std::fprintf(stderr,
+                       "headingd: --join over several folders replays each as one run: -o and --plot do not "
+                       "apply (see --output-dir)\n");
+          return app::kExitUsage;
+        }
+        batch.found = found;
+        batch.join = true;
+        batch.output_rate_hz = replay.output_rate_hz;
+        if (const int code = app::batch_settings(replay.config_path, replay.method, batch.settings)) return code;
+        return app::run_batch_replay(batch);
+      }
       for (const auto& f : found) replay.joined.push_back(f.path);
       replay_inputs = {replay.joined.front()};
     }

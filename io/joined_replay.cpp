@@ -1,10 +1,13 @@
 #include "io/joined_replay.hpp"
 
+#include <algorithm>
+
 #include "io/native_csv.hpp"
 
 namespace headingd::drivers {
 
-JoinedReplaySource::JoinedReplaySource(std::vector<std::string> paths) : paths_(std::move(paths)) {
+JoinedReplaySource::JoinedReplaySource(std::vector<std::string> paths, bool split_runs)
+    : paths_(std::move(paths)), split_runs_(split_runs) {
   if (paths_.empty()) throw OpenError("no recordings to join");
   current_ = std::make_unique<CsvReplaySource>(paths_.front());
   description_ = std::to_string(paths_.size()) + " recordings joined, " + current_->describe() + " to " + paths_.back();
@@ -19,27 +22,53 @@ void JoinedReplaySource::open_next() {
     try {
       current_ = std::make_unique<CsvReplaySource>(paths_[index_]);
     } catch (const OpenError& error) {
-      damaged_.push_back({paths_[index_], error.what()});
+      note_damage(error.what());
     } catch (const InputError& error) {
-      damaged_.push_back({paths_[index_], error.what()});
+      note_damage(error.what());
     }
   }
 }
 
+void JoinedReplaySource::note_damage(const std::string& error) {
+  damaged_.push_back({paths_[index_], error});
+  after_damage_ = true;
+  after_run_end_ = false;
+}
+
+void JoinedReplaySource::take(std::span<const core::Sample> samples) {
+  if (!current_started_) last_part_ = paths_[index_];
+  current_started_ = true;
+  after_damage_ = false;
+  if (samples_ == 0) first_t_s_ = samples.front().t_s;
+  last_t_s_ = samples.back().t_s;
+  samples_ += samples.size();
+}
+
 std::size_t JoinedReplaySource::read(std::span<core::Sample> out) {
+  if (run_ended_) return 0;
+  if (!held_.empty()) {  // this run's first samples, read while ending the run before
+    const std::size_t n = std::min(out.size(), held_.size());
+    std::copy_n(held_.begin(), n, out.begin());
+    held_.erase(held_.begin(), held_.begin() + static_cast<std::ptrdiff_t>(n));
+    take(out.first(n));
+    return n;
+  }
   while (current_) {
+    if (split_runs_ && !current_started_ && after_run_end_ && samples_ > 0) {
+      after_run_end_ = false;
+      run_ended_ = true;  // the file before closed its run: the next one starts another
+      return 0;
+    }
     std::size_t n = 0;
     try {
       n = current_->read(out);
     } catch (const InputError& error) {
-      // A part cut short (a file lost to a full disk keeps what fit) or damaged: its good samples
-      // were replayed; the rest of the series still is. The last part's error ends the replay as
-      // any recording's does.
+      // A part cut short (a file lost to a full disk, a run that crashed) or damaged: its good
+      // samples were replayed; the rest of the series still is. The last part's error ends the
+      // replay as any recording's does.
       if (index_ + 1 >= paths_.size()) throw;
-      damaged_.push_back({paths_[index_], error.what()});
-      after_run_end_ = false;
+      note_damage(error.what());
       current_.reset();
-      current_started_ = false;
       open_next();
       continue;
     }
@@ -47,21 +76,39 @@ std::size_t JoinedReplaySource::read(std::span<core::Sample> out) {
       open_next();
       continue;
     }
-    if (!current_started_ && samples_ > 0 && !(out[0].t_s > last_t_s_))
+    if (!current_started_ && samples_ > 0 && !(out[0].t_s > last_t_s_)) {
+      // After a run's end, or a part cut short (a crash), a clock that starts again is the
+      // machine restarting: another run. Anywhere else the files are out of order.
+      const bool new_boot = after_run_end_ || after_damage_;
+      if (split_runs_ && new_boot) {
+        held_.assign(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n));
+        run_ended_ = true;
+        return 0;
+      }
       throw InputError(paths_[index_], 0,
                        "its first sample (t = " + std::to_string(out[0].t_s) + " s) is not after the last of " +
-                           last_part_ + " (t = " + std::to_string(last_t_s_) +
-                           " s): not the next part of one run (replay them apart, or in the order they were written)");
+                           last_part_ + " (t = " + std::to_string(last_t_s_) + " s): " +
+                           (new_boot ? "another run, after the machine restarted (its sample clock starts again); "
+                                       "--join with --output-dir replays each run as a row of its own"
+                                     : "not the next part of one run (replay them apart, or in the order they were "
+                                       "written)"));
+    }
     if (!current_started_ && after_run_end_) boundaries_.push_back({paths_[index_], out[0].t_s - last_t_s_});
-    if (!current_started_) last_part_ = paths_[index_];
-    current_started_ = true;
-    if (samples_ == 0) first_t_s_ = out[0].t_s;
-    last_t_s_ = out[n - 1].t_s;
-    samples_ += n;
+    take(out.first(n));
     return n;
   }
   index_ = paths_.size();
   return 0;
+}
+
+bool JoinedReplaySource::next_run() {
+  if (!run_ended_) return false;
+  run_ended_ = false;
+  samples_ = 0;
+  first_t_s_ = last_t_s_ = 0.0;
+  boundaries_.clear();
+  damaged_.clear();
+  return true;
 }
 
 void JoinedReplaySource::close() {

@@ -5,9 +5,11 @@
 // rather than of a cold start at every file's beginning. Each file must go on in time from the
 // one before; one that does not (files of two runs, or given out of order) is an InputError
 // naming both files, after every sample before it.
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -23,7 +25,12 @@ class JoinedReplaySource final : public core::SampleSource {
   // keeps what fit), is a damaged part: its good samples are replayed, the replay goes on with the
   // next, and damaged_parts() says what was wrong. The last part's read error is thrown as any
   // recording's is.
-  explicit JoinedReplaySource(std::vector<std::string> paths);
+  // `split_runs`: where one run of the recorder ended (its end-of-run line, or a part cut short
+  // followed by a clock that starts again: a crash, a reboot), read() returns 0 as at an end, and
+  // next_run() goes on with the next run (a fleet's folder replayed as a row per run). Without
+  // it a run that follows in time is carried on (run_boundaries()), one after a reboot is an
+  // InputError that says so.
+  explicit JoinedReplaySource(std::vector<std::string> paths, bool split_runs = false);
   std::size_t read(std::span<core::Sample> out) override;
   void close() override;
   std::string describe() const override { return description_; }  // fixed at open: read-ahead asks from its thread
@@ -43,15 +50,26 @@ class JoinedReplaySource final : public core::SampleSource {
     std::string error;
   };
   const std::vector<DamagedPart>& damaged_parts() const { return damaged_; }
+  // After read() returned 0: true when another run follows (its counts start again: read the
+  // run's health, boundaries and damage first); false at the real end.
+  bool next_run();
+  // The file the samples now come from (after next_run(): the new run's first).
+  const std::string& current_file() const { return paths_[std::min(index_, paths_.size() - 1)]; }
 
  private:
   void open_next();
+  void note_damage(const std::string& error);
+  void take(std::span<const core::Sample> samples);
 
   std::vector<std::string> paths_;
   std::size_t index_ = 0;
   std::unique_ptr<CsvReplaySource> current_;
   bool current_started_ = false;
-  bool after_run_end_ = false;  // the file before the current one ended a run
+  bool split_runs_ = false;
+  bool after_run_end_ = false;      // the file before the current one ended a run
+  bool after_damage_ = false;       // a damaged part came after the last good sample
+  bool run_ended_ = false;          // read() says "end" until next_run()
+  std::vector<core::Sample> held_;  // the next run's first samples, read to see that it was one
   std::vector<RunBoundary> boundaries_;
   std::vector<DamagedPart> damaged_;
   std::string description_;

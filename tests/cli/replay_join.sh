@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# A fleet's rolling recordings replayed a row per run (`replay -r --join`): vehicle-1's folder holds
+# two runs of the recorder (a restart: the second run's sample clock starts again), vehicle-2's
+# one. Each run's row and estimates equal the replay of that run's files joined on their own;
+# a run cut short (its last file truncated and without its closing line, as a crash leaves it)
+# still ends its row there, the damage named (exit 65), and the next run gets its own row.
+set -uo pipefail
+headingd="$1"
+dir="$(mktemp -d)"
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+cd "$dir" || exit 1
+
+record() {  # record VEHICLE SEED SECONDS: a run of the simulated chip, a file per 10.8 s
+  "$headingd" run --simulated-chip agv --sim-seed "$2" --duration "$3" --no-dds --state "state-$1-$2" \
+    --record-dir "fleet/$1" --record-split-hours 0.003 2>"run-$1-$2.log" || fail "run $1 $2: $(cat "run-$1-$2.log")"
+}
+record vehicle-1 1 30
+run1=(fleet/vehicle-1/*)
+sleep 1.1  # the second run's files start a second later: their names sort after the first's
+record vehicle-1 2 20
+run2=()
+for f in fleet/vehicle-1/*; do [[ " ${run1[*]} " == *" $f "* ]] || run2+=("$f"); done
+record vehicle-2 3 25
+[ "${#run1[@]}" -eq 3 ] && [ "${#run2[@]}" -eq 2 ] || fail "files: ${run1[*]} | ${run2[*]}"
+
+"$headingd" replay -r --join fleet --output-rate 0 --output-dir out --summary-csv table.csv >table.txt 2>err ||
+  fail "replay -r --join: $(cat table.txt err)"
+[ "$(grep -c '^fleet/' table.txt)" -eq 3 ] || fail "rows: $(cat table.txt)"
+grep -q "^fleet/vehicle-1/ run 1 from $(basename "${run1[0]}")" table.txt &&
+  grep -q "^fleet/vehicle-1/ run 2 from $(basename "${run2[0]}")" table.txt &&
+  grep -q "^fleet/vehicle-2/ (3 joined)" table.txt || fail "row names: $(cat table.txt)"
+check_run() {  # check_run ESTIMATES FILE...: the row's estimates equal the run's own files joined
+  local est="$1"
+  shift
+  "$headingd" replay --no-dds --join "$@" --output-rate 0 -o alone.est 2>alone.log || fail "--join $*: $(cat alone.log)"
+  cmp -s alone.est "$est" || fail "$est differs from the replay of $* joined on their own"
+}
+check_run "out/vehicle-1/$(basename "${run1[0]%.csv.zst}").estimates.csv" "${run1[@]}"
+check_run "out/vehicle-1/$(basename "${run2[0]%.csv.zst}").estimates.csv" "${run2[@]}"
+check_run "out/vehicle-2/$(basename "$(ls fleet/vehicle-2 | head -1)" .csv.zst).estimates.csv" fleet/vehicle-2/*
+echo "ok: a row per run (two in vehicle-1's folder, one in vehicle-2's), each equal to its own files joined"
+
+# One folder of two runs asked for one replay: the restart is named, the first run's estimates kept.
+"$headingd" replay --no-dds --join fleet/vehicle-1 -o one.est 2>one.log
+rc=$?
+[ "$rc" -eq 65 ] && grep -q "another run, after the machine restarted" one.log || fail "one replay of two runs: exit $rc: $(head -2 one.log)"
+echo "ok: --join -o over two runs stops at the restart, saying so (65)"
+
+# A crash: run 1's last file cut short, without its closing line. The row of run 1 ends with the
+# damage named; run 2 still has its row.
+last="${run1[2]}"
+zstd -dc "$last" | head -n -1 | head -c -20 | zstd -q -o cut.zst && mv cut.zst "$last"
+"$headingd" replay -r --join fleet/vehicle-1 --output-rate 0 --output-dir out2 >crash.txt 2>crash.err
+rc=$?
+[ "$rc" -eq 65 ] || fail "a crashed run: exit $rc: $(cat crash.txt crash.err)"
+grep "run 1 from" crash.txt | grep -q "damaged part passed: .*$(basename "$last")" || fail "run 1's row: $(cat crash.txt)"
+grep "run 2 from" crash.txt | grep -q "  -$" || fail "run 2's row: $(cat crash.txt)"
+echo "ok: a run cut short by a crash: its row names the damage, the next run has its own row (65)"
