@@ -61,9 +61,11 @@ DiagnosticEntry DiagnosticsBuilder::sensor(const core::Estimate& e, const Status
       std::abs(r.sample_rate_hz / r.nominal_rate_hz - 1.0) > kRateTolerance)
     raise(entry, DiagnosticLevel::Warn,
           "output rate " + number(r.sample_rate_hz) + " Hz, nominal " + number(r.nominal_rate_hz) + " Hz");
-  // For the rest of the run: the file is gone, whatever the sensor does.
-  if (r.outputs_dropped > 0)
-    raise(entry, DiagnosticLevel::Warn, "a file output could not be written and was dropped: " + r.output_dropped);
+  // While an output is not writing: a dropped file for the rest of the run, whatever the sensor
+  // does; a rolling recording until its next file works (months of WARN after a disk that was
+  // full for an hour would teach the operators to ignore it; the count stays below).
+  if (r.outputs_failing > 0)
+    raise(entry, DiagnosticLevel::Warn, "a file output cannot be written: " + r.output_dropped);
   entry.values = {{"state", sensor_state_name(r.state)},
                   {"rate_hz", number(r.sample_rate_hz)},
                   {"nominal_rate_hz", number(r.nominal_rate_hz)},
@@ -75,7 +77,8 @@ DiagnosticEntry DiagnosticsBuilder::sensor(const core::Estimate& e, const Status
                   {"stuck_samples", std::to_string(r.stuck_samples)},
                   {"temperature_c", number(e.temp_c)},
                   {"uptime_s", number(r.uptime_s)},
-                  {"file_outputs_dropped", std::to_string(r.outputs_dropped)}};
+                  {"file_outputs_dropped", std::to_string(r.outputs_dropped)},
+                  {"file_outputs_failing", std::to_string(r.outputs_failing)}};
   return entry;
 }
 

@@ -35,6 +35,7 @@ struct StatusReport {
   std::uint32_t other_publishers = 0;
   std::uint64_t outputs_dropped = 0;  // file outputs the run went on without (a full disk)
   std::string output_dropped;         // which, and why: the last one
+  std::uint64_t outputs_failing = 0;  // of them, not writing now (a rolling series that resumed is not)
 };
 
 }  // namespace headingd::app

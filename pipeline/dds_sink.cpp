@@ -95,6 +95,7 @@ app::StatusReport DdsSink::report(const core::Estimate& estimate) {
   if (drops_ != nullptr) {
     r.outputs_dropped = drops_->count;
     r.output_dropped = drops_->last;
+    r.outputs_failing = drops_->failing;
   }
   return r;
 }

@@ -43,6 +43,7 @@ void ExpendableSink::finish(const core::Estimator& estimator, const core::Sample
 void ExpendableSink::drop(const std::string& why) {
   dropped_ = true;
   ++drops_.count;
+  ++drops_.failing;
   drops_.last = what_ + ": " + why;
   app::log(app::LogPriority::Error, "output dropped " + what_,
            "the " + what_ + " could not be written and is dropped (" + why +

@@ -15,6 +15,9 @@ namespace headingd::pipeline {
 struct OutputDrops {
   std::uint64_t count = 0;
   std::string last;  // what the last one could not do
+  // Of them, the outputs not writing now: a dropped file for the rest of the run, a rolling
+  // series only until its next file works (then /diagnostics is OK again, the count stays).
+  std::uint64_t failing = 0;
 };
 
 class ExpendableSink final : public Sink {

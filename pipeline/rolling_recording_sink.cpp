@@ -80,6 +80,12 @@ void RollingRecordingSink::add(const core::Sample& sample, const core::Estimate&
     if (!current_) return;
   }
   guarded([&] { current_->add(sample, estimate, estimator); }, sample.t_s);
+  // Writing again, not only open: a file takes a full disk's error at its first write (RecordingSink
+  // hands the bytes on once a second), so the series counts as working after kWritingAgainS.
+  if (counted_failing_ && current_ && sample.t_s - file_start_t_s_ >= kWritingAgainS) {
+    --drops_->failing;
+    counted_failing_ = false;
+  }
 }
 
 // Without resume_after_errors, as any file output: the error ends the run (or the ExpendableSink
@@ -115,6 +121,7 @@ std::string RollingRecordingSink::give_up_file() {
 void RollingRecordingSink::count_loss(const std::string& why) {
   ++files_lost_;
   ++drops_->count;
+  if (!counted_failing_) ++drops_->failing, counted_failing_ = true;
   drops_->last = "rolling recording: " + why;
 }
 

@@ -36,6 +36,7 @@ class RollingRecordingSink final : public Sink {
   // error throws OutputError as every file output's does.
   void resume_after_errors(OutputDrops& drops) { drops_ = &drops; }
   static constexpr double kRetryAfterS = 300.0;
+  static constexpr double kWritingAgainS = 10.0;  // of samples in a new file: no longer failing
   // The file being written ("" before the first sample) and how many were started.
   std::string path() const { return current_ ? current_->path() : std::string(); }
   std::uint64_t files_started() const { return files_started_; }
@@ -60,6 +61,7 @@ class RollingRecordingSink final : public Sink {
   std::uint64_t files_deleted_ = 0;
   OutputDrops* drops_ = nullptr;
   std::uint64_t files_lost_ = 0;
+  bool counted_failing_ = false;        // in drops_->failing until a file works again
   std::optional<double> retry_at_t_s_;  // after a lost file: when the next one is tried
   double lost_at_t_s_ = 0.0;
 };

@@ -215,9 +215,12 @@ TEST(RollingRecording, AFileThatCannotBeWrittenIsFollowedByANewOne) {
   };
   {
     FileSizeLimit full(rlim_t{64} * 1024);  // the first 1 MB of text CsvOut hands on fails past 64 kB
+    through(400.0);
+    EXPECT_EQ(drops.failing, 1u) << "not writing: /diagnostics warns";
     through(500.0);
   }
   through(1e9);
+  EXPECT_EQ(drops.failing, 0u) << "writing again: /diagnostics OK, the count stays";
   headingd::core::MemorySource source(all);
   sink.finish(estimator, source);
 
@@ -263,6 +266,7 @@ TEST(RollingRecording, FilesThatGotNothingOntoTheDiskAreRemoved) {
   EXPECT_EQ(sink.files_started(), 4u);
   EXPECT_EQ(sink.files_lost(), 4u);
   EXPECT_EQ(drops.count, 4u);
+  EXPECT_EQ(drops.failing, 1u);
 }
 
 // Thirteen files within one second of the wall clock (a replay at full speed, restarts in a

@@ -247,13 +247,14 @@ TEST(RosDiagnostics, ABiasRestartAndAHeadingCorrectionWarnForTenSeconds) {
   EXPECT_EQ(builder.build(e, d, report, {})[1].level, app::DiagnosticLevel::Ok);
 }
 
-TEST(RosDiagnostics, ADroppedFileOutputWarnsForTheRestOfTheRun) {
+TEST(RosDiagnostics, AFileOutputNotWritingWarnsUntilItWritesAgain) {
   app::DiagnosticsBuilder builder{RosSettings{}};
   app::StatusReport report;
   report.state = app::SensorState::Ok;
   core::Estimate e = running_estimate();
   EXPECT_EQ(builder.build(e, running_diagnostics(), report, {})[0].level, app::DiagnosticLevel::Ok);
   report.outputs_dropped = 1;
+  report.outputs_failing = 1;
   report.output_dropped = "recording: cannot write /var/log/rec.csv: No space left on device";
   for (const double t_s : {101.0, 5000.0}) {  // not only the ten seconds after it
     e.t_s = t_s;
@@ -265,6 +266,15 @@ TEST(RosDiagnostics, ADroppedFileOutputWarnsForTheRestOfTheRun) {
       counted = counted || (key == "file_outputs_dropped" && value == "1");
     EXPECT_TRUE(counted);
   }
+  // A rolling recording that started a file which writes again: OK, the count kept.
+  report.outputs_failing = 0;
+  e.t_s = 6000.0;
+  const auto entries = builder.build(e, running_diagnostics(), report, {});
+  EXPECT_EQ(entries[0].level, app::DiagnosticLevel::Ok) << entries[0].message;
+  bool counted = false;
+  for (const auto& [key, value] : entries[0].values)
+    counted = counted || (key == "file_outputs_dropped" && value == "1");
+  EXPECT_TRUE(counted);
 }
 
 TEST(RosConfig, ReadsTheRosTablesAndRefusesBadNames) {
