@@ -318,11 +318,15 @@ int run_batch_replay(const BatchOptions& options) {
   std::vector<Row> rows;
   for (auto& g : group_rows) rows.insert(rows.end(), g.begin(), g.end());
 
-  std::printf("%-40s %8s %10s %6s %9s %10s %21s  %s\n", "file", "hours", "samples", "still", "sigma_deg", "bias_z_dps",
-              "bias_z_range_dps", "warnings");
+  // The file column as wide as its longest name (a run's row names its folder and first file), so
+  // the figures stay in columns for a reader; scripts split on blanks or read --summary-csv.
+  int width = 40;
+  for (const auto& r : rows) width = std::max(width, static_cast<int>(drivers::printable(r.file, 200).size()));
+  std::printf("%-*s %8s %10s %6s %9s %10s %21s  %s\n", width, "file", "hours", "samples", "still", "sigma_deg",
+              "bias_z_dps", "bias_z_range_dps", "warnings");
   int code = kExitOk;
   for (const auto& r : rows) {
-    std::printf("%-40s %8s %10llu %6llu %9s %10s %21s  %s\n", drivers::printable(r.file, 200).c_str(),
+    std::printf("%-*s %8s %10llu %6llu %9s %10s %21s  %s\n", width, drivers::printable(r.file, 200).c_str(),
                 number(r.hours, "%.3f").c_str(), static_cast<unsigned long long>(r.samples),
                 static_cast<unsigned long long>(r.still), number(r.sigma_deg, "%.3f").c_str(),
                 number(r.bias_z, "%+.4f").c_str(),
