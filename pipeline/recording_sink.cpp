@@ -18,6 +18,7 @@ void RecordingSink::add(const core::Sample& sample, const core::Estimate& /*esti
     if (now - last_push_ >= std::chrono::seconds(1)) {
       writer_.push();
       last_push_ = now;
+      samples_on_disk_ = true;
     }
   }
 }

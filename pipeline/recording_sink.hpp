@@ -20,11 +20,14 @@ class RecordingSink final : public Sink {
   // Ends the file with `last_line` (a '#' comment) instead, mid-run: a series split by time.
   void close(const std::string& last_line);
   const std::string& path() const { return writer_.path(); }
+  // Samples of this file were handed to the system without an error (a full disk has taken them).
+  bool samples_on_disk() const { return samples_on_disk_; }
 
  private:
   app::RecordingWriter writer_;
   unsigned since_check_ = 0;
   std::uint64_t samples_written_ = 0;
+  bool samples_on_disk_ = false;
   std::chrono::steady_clock::time_point last_push_ = std::chrono::steady_clock::now();
 };
 

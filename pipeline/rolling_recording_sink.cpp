@@ -72,6 +72,8 @@ void RollingRecordingSink::add(const core::Sample& sample, const core::Estimate&
     if (sample.t_s < *retry_at_t_s_) return;  // the gap after a lost file
     guarded([&] { start_file(sample.t_s); }, sample.t_s);
     if (!current_) return;
+    resumed_at_t_s_ = sample.t_s;
+    wrote_since_resume_ = false;
     app::log(app::LogPriority::Notice, "rolling recording resumed",
              "recording again in " + current_->path() + " after " +
                  std::to_string(std::lround(sample.t_s - lost_at_t_s_)) + " s of samples not recorded");
@@ -80,9 +82,12 @@ void RollingRecordingSink::add(const core::Sample& sample, const core::Estimate&
     if (!current_) return;
   }
   guarded([&] { current_->add(sample, estimate, estimator); }, sample.t_s);
-  // Writing again, not only open: a file takes a full disk's error at its first write (RecordingSink
-  // hands the bytes on once a second), so the series counts as working after kWritingAgainS.
-  if (counted_failing_ && current_ && sample.t_s - file_start_t_s_ >= kWritingAgainS) {
+  // Writing again, not only open: a file takes a full disk's error only when its bytes go out
+  // (RecordingSink hands them on once a wall-clock second, a split closes the file), so the series
+  // counts as working once samples reached the disk and kWritingAgainS of them have passed since it
+  // resumed, across splits, at any replay speed.
+  if (current_ && current_->samples_on_disk()) wrote_since_resume_ = true;
+  if (counted_failing_ && current_ && wrote_since_resume_ && sample.t_s - resumed_at_t_s_ >= kWritingAgainS) {
     --drops_->failing;
     counted_failing_ = false;
   }
@@ -147,6 +152,7 @@ void RollingRecordingSink::start_file(double t_s) {
   if (current_) {
     current_->close("# continued in " + std::filesystem::path(path).filename().string());
     current_.reset();
+    wrote_since_resume_ = true;  // closed without an error: all of it is on the disk
   }
   delete_expired();  // first: on a full disk, what expires makes the room for the next file
   current_.emplace(path, comments_);

@@ -36,7 +36,8 @@ class RollingRecordingSink final : public Sink {
   // error throws OutputError as every file output's does.
   void resume_after_errors(OutputDrops& drops) { drops_ = &drops; }
   static constexpr double kRetryAfterS = 300.0;
-  static constexpr double kWritingAgainS = 10.0;  // of samples in a new file: no longer failing
+  // Of samples since the series resumed, with some of them on the disk: no longer failing.
+  static constexpr double kWritingAgainS = 10.0;
   // The file being written ("" before the first sample) and how many were started.
   std::string path() const { return current_ ? current_->path() : std::string(); }
   std::uint64_t files_started() const { return files_started_; }
@@ -64,6 +65,8 @@ class RollingRecordingSink final : public Sink {
   bool counted_failing_ = false;        // in drops_->failing until a file works again
   std::optional<double> retry_at_t_s_;  // after a lost file: when the next one is tried
   double lost_at_t_s_ = 0.0;
+  double resumed_at_t_s_ = 0.0;      // the first sample of the file that followed the loss
+  bool wrote_since_resume_ = false;  // a file since then took samples without an error
 };
 
 // The time in a series file's name (UTC seconds), or nothing for any other name.

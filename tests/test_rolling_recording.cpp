@@ -269,6 +269,37 @@ TEST(RollingRecording, FilesThatGotNothingOntoTheDiskAreRemoved) {
   EXPECT_EQ(drops.failing, 1u);
 }
 
+// Files shorter than kWritingAgainS (a split of 5 s) and fed faster than real time: the series is
+// writing again once a file since the loss closed without an error and 10 s of samples passed
+// since it resumed, counted across the splits; not while the resumed file has put nothing on the
+// disk.
+TEST(RollingRecording, WritingAgainIsCountedAcrossSplitsOnceSamplesReachedTheDisk) {
+  TempDir dir;
+  RollingSettings settings{dir.path("rec"), 5.0 / 3600.0, 48.0};
+  RollingRecordingSink sink(settings, "", fake_wall);
+  headingd::pipeline::OutputDrops drops;
+  sink.resume_after_errors(drops);
+  headingd::core::Estimator estimator(headingd::core::kDefaultEstimatorSettings);
+  const auto all = noisy_samples(0.0, 60.0, 100.0);
+  std::size_t next = 0;
+  const auto through = [&](double until_s) {
+    for (; next < all.size() && all[next].t_s < until_s; ++next)
+      sink.add(all[next], estimator.update(all[next]), estimator);
+  };
+  {
+    FileSizeLimit full(0);
+    through(5.5);  // the first file lost when the split at 5 s closed it; the next is tried at 10 s
+    EXPECT_EQ(drops.failing, 1u);
+  }
+  through(14.0);  // resumed at 10 s: open, nothing of it on the disk yet
+  EXPECT_EQ(drops.failing, 1u) << "a file that has written nothing is not writing again";
+  through(19.9);  // the resumed file closed at 15 s; 10 s since the resume not yet passed
+  EXPECT_EQ(drops.failing, 1u);
+  through(20.1);
+  EXPECT_EQ(drops.failing, 0u) << "writing again across splits shorter than 10 s";
+  EXPECT_EQ(drops.count, 1u) << drops.last;
+}
+
 // Thirteen files within one second of the wall clock (a replay at full speed, restarts in a
 // loop): the names still sort in the order the files were started, as `replay --join` takes them.
 TEST(RollingRecording, NamesSortInStartOrderPastTenInOneSecond) {

@@ -3,10 +3,10 @@
 # (zstd checks it), together they hold every sample of the run and `replay --join` gives the
 # estimates of the run recorded whole; a second run (a restart) adds
 # files and leaves the first run's untouched; with --record-keep-hours 0 only the file being
-# written is kept; --record and --record-dir together are refused.
+# written is kept; --record and --record-dir together are refused. A full disk under a rolling
+# recording: tests/cli/ros2_full_disk.sh, beside a ROS 2 peer.
 set -uo pipefail
 headingd="$1"
-root="$2"
 dir="$(mktemp -d)"
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -66,46 +66,3 @@ echo "ok: --record-keep-hours 0 keeps only the file being written (8 deleted)"
 out=$("$headingd" run --simulated-chip agv --duration 1 --no-dds --record x.csv --record-dir rec 2>&1); rc=$?
 [ "$rc" -eq 64 ] && grep -q "choose one" <<<"$out" || fail "--record with --record-dir: exit $rc: $out"
 echo "ok: --record with --record-dir refused (64)"
-
-# A disk that fills and has room again, live beside DDS: a tmpfs of 256 kB in a mount namespace
-# made here, all but 8 kB of it taken by a filler. The first file is lost when the disk is full
-# (it keeps what fit), the run goes on publishing; once the filler is removed a new file starts
-# one split (7.2 s of samples) after the loss and records to the end of the run (in real time:
-# the filler goes once the loss is in the log).
-# DDS on loopback only (the project's profile), in a domain of this test's own.
-printf '[dds]\ndomain_id = 68\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$root" >dds.toml
-# shellcheck disable=SC2016
-unshare --mount --propagation private bash -c '
-  mkdir -p full && mount -t tmpfs -o size=256k rolling-test full || exit 90
-  dd if=/dev/zero of=full/filler bs=1k count=248 status=none 2>/dev/null
-  "$1" run -c dds.toml --simulated-chip agv --sim-seed 4 --sim-realtime --duration 25 --state state-full \
-    --record-dir full/rec --record-split-hours 0.002 2>full.log &
-  pid=$!
-  for _ in $(seq 200); do grep -q "could not be written" full.log && break; sleep 0.1; done
-  rm -f full/filler
-  wait "$pid"; rc=$?
-  cp -r full/rec rec-full
-  exit "$rc"' -- "$headingd"
-rc=$?
-[ "$rc" -ne 90 ] || fail "cannot mount a tmpfs (needs root)"
-[ "$rc" -eq 0 ] || fail "full disk: exit $rc: $(tail -5 full.log)"
-grep -q "No space left on device" full.log || fail "the disk never filled: $(grep -i record full.log)"
-grep -q "recording again in" full.log || fail "the series did not resume: $(grep -i record full.log)"
-grep -q "file output(s) dropped, the run went on publishing" full.log || fail "no drop in the summary"
-grep -q "1 lost to write errors" full.log || fail "the summary does not count the lost file: $(grep recording full.log)"
-files=(rec-full/headingd-*.csv.zst)
-[ "${#files[@]}" -ge 2 ] || fail "expected the lost file and the resumed ones: ${files[*]}"
-[ -s "${files[0]}" ] || fail "the lost file holds nothing"
-resumed=$(samples_in "${files[@]:1}") || fail "$resumed"
-[ "$resumed" -gt 3000 ] || fail "the resumed files hold $resumed samples"
-# The last file's closing line counts the run's samples and its own apart.
-zstd -dc "${files[-1]}" | tail -1 | grep -q "the run: [0-9]* samples, 0 lost; this file: [0-9]*" ||
-  fail "the last file's closing line: $(zstd -dc "${files[-1]}" | tail -1)"
-echo "ok: a full disk lost one file; after room came back the series resumed ($resumed samples in $((${#files[@]} - 1)) files), exit 0"
-# Joined, the series replays what the lost file kept and everything after it, naming the damage (65).
-"$headingd" replay --no-dds --join rec-full --output-rate 0 -o full.est 2>full-join.log
-rc=$?
-[ "$rc" -eq 65 ] && grep -qF -- "--join: ${files[0]}" full-join.log || fail "--join over the lost file: exit $rc: $(cat full-join.log)"
-rows=$(grep -c '^[0-9]' full.est)
-[ "$rows" -gt "$resumed" ] || fail "--join gave $rows rows, the resumed files alone hold $resumed"
-echo "ok: --join over the lost file: its $((rows - resumed)) samples and the rest replayed, the damage named, exit 65"
