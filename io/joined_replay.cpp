@@ -5,11 +5,23 @@
 #include "io/native_csv.hpp"
 
 namespace headingd::drivers {
+namespace {
+
+// The run a rolling series' file names in its header, "" if it names none.
+std::string series_run_of(const CsvReplaySource& file) {
+  const std::string_view key = app::kSeriesRunComment;
+  for (const auto& comment : file.comments())
+    if (comment.starts_with(key)) return comment.substr(key.size(), comment.find(',') - key.size());
+  return {};
+}
+
+}  // namespace
 
 JoinedReplaySource::JoinedReplaySource(std::vector<std::string> paths, bool split_runs)
     : paths_(std::move(paths)), split_runs_(split_runs) {
   if (paths_.empty()) throw OpenError("no recordings to join");
   current_ = std::make_unique<CsvReplaySource>(paths_.front());
+  current_run_ = series_run_of(*current_);
   description_ = std::to_string(paths_.size()) + " recordings joined, " + current_->describe() + " to " + paths_.back();
 }
 
@@ -27,6 +39,10 @@ void JoinedReplaySource::open_next() {
       note_damage(error.what());
     }
   }
+  if (!current_) return;
+  current_run_ = series_run_of(*current_);
+  runs_named_ = !current_run_.empty() && !run_.empty();
+  if (runs_named_) after_run_end_ = current_run_ != run_;
 }
 
 void JoinedReplaySource::note_damage(const std::string& error) {
@@ -36,7 +52,10 @@ void JoinedReplaySource::note_damage(const std::string& error) {
 }
 
 void JoinedReplaySource::take(std::span<const core::Sample> samples) {
-  if (!current_started_) last_part_ = paths_[index_];
+  if (!current_started_) {
+    last_part_ = paths_[index_];
+    run_ = current_run_;
+  }
   current_started_ = true;
   after_damage_ = false;
   if (samples_ == 0) first_t_s_ = samples.front().t_s;
@@ -79,7 +98,7 @@ std::size_t JoinedReplaySource::read(std::span<core::Sample> out) {
     if (!current_started_ && samples_ > 0 && !(out[0].t_s > last_t_s_)) {
       // After a run's end, or a part cut short (a crash), a clock that starts again is the
       // machine restarting: another run. Anywhere else the files are out of order.
-      const bool new_boot = after_run_end_ || after_damage_;
+      const bool new_boot = after_run_end_ || (after_damage_ && !runs_named_);
       if (split_runs_ && new_boot) {
         held_.assign(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n));
         run_ended_ = true;

@@ -25,11 +25,13 @@ class JoinedReplaySource final : public core::SampleSource {
   // keeps what fit), is a damaged part: its good samples are replayed, the replay goes on with the
   // next, and damaged_parts() says what was wrong. The last part's read error is thrown as any
   // recording's is.
-  // `split_runs`: where one run of the recorder ended (its end-of-run line, or a part cut short
-  // followed by a clock that starts again: a crash, a reboot), read() returns 0 as at an end, and
+  // `split_runs`: where one run of the recorder ended, read() returns 0 as at an end, and
   // next_run() goes on with the next run (a fleet's folder replayed as a row per run). Without
   // it a run that follows in time is carried on (run_boundaries()), one after a reboot is an
-  // InputError that says so.
+  // InputError that says so. Where runs end: a rolling series' files name their run (a crash and
+  // a restart on the same boot, a lost file between two runs: told apart); files that do not
+  // (a series written before they did) end a run at the recorder's end-of-run line, or at a part
+  // cut short followed by a clock that starts again (a crash, then a reboot).
   explicit JoinedReplaySource(std::vector<std::string> paths, bool split_runs = false);
   std::size_t read(std::span<core::Sample> out) override;
   void close() override;
@@ -67,6 +69,9 @@ class JoinedReplaySource final : public core::SampleSource {
   bool current_started_ = false;
   bool split_runs_ = false;
   bool after_run_end_ = false;      // the file before the current one ended a run
+  bool runs_named_ = false;         // both name their series run: after_run_end_ says it all
+  std::string current_run_;         // the series run the current file names ("" if none)
+  std::string run_;                 // ... and the one the last sample came from
   bool after_damage_ = false;       // a damaged part came after the last good sample
   bool run_ended_ = false;          // read() says "end" until next_run()
   std::vector<core::Sample> held_;  // the next run's first samples, read to see that it was one

@@ -18,6 +18,10 @@ inline constexpr std::string_view kNativeTempColumn = "temp_c";
 // How the recorder's last line at the end of a run begins ("# measured output rate 378.800 Hz; …");
 // a file split off mid-run ends "# continued in NAME" instead.
 inline constexpr const char* kEndOfRunComment = "measured output rate";
+// Each file of a rolling series names its run among the header's comments ("# rolling series run
+// headingd-20261207T063107Z, file 3": the run's first file): `replay --join` tells runs apart by it
+// where the files themselves cannot (a crash and a restart on the same boot, a lost file between).
+inline constexpr const char* kSeriesRunComment = "rolling series run ";
 
 // How many decimals the time and temperature get. The rates are written exactly (the shortest
 // text of the double), so a replay parses the very values that were recorded.

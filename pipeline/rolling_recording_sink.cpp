@@ -14,6 +14,7 @@
 #include <filesystem>
 
 #include "io/csv_out.hpp"
+#include "io/native_csv.hpp"
 #include "service/log.hpp"
 
 namespace headingd::pipeline {
@@ -155,7 +156,10 @@ void RollingRecordingSink::start_file(double t_s) {
     wrote_since_resume_ = true;  // closed without an error: all of it is on the disk
   }
   delete_expired();  // first: on a full disk, what expires makes the room for the next file
-  current_.emplace(path, comments_);
+  std::string name = std::filesystem::path(path).filename().string();
+  if (run_name_.empty()) run_name_ = name.substr(0, name.size() - std::strlen(kEnding));
+  current_.emplace(path, comments_ + "# " + app::kSeriesRunComment + run_name_ + ", file " +
+                             std::to_string(files_started_ + 1) + "\n");
   file_start_t_s_ = t_s;
   ++files_started_;
 }

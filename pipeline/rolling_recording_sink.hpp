@@ -58,6 +58,7 @@ class RollingRecordingSink final : public Sink {
   WallClock wall_;
   std::optional<RecordingSink> current_;
   double file_start_t_s_ = 0.0;
+  std::string run_name_;  // the run's first file's name, without the ending: in every file's header
   std::uint64_t files_started_ = 0;
   std::uint64_t files_deleted_ = 0;
   OutputDrops* drops_ = nullptr;

@@ -208,6 +208,51 @@ TEST(JoinedReplay, PartsInOrderThenOneOutOfTimeThenOneMissing) {
   }
 }
 
+// A rolling series' files name their run: the runs are told apart where time cannot tell them
+// (a crash, then a restart on the same boot: the clock goes on), and one run's files stay one run
+// across a file lost to a full disk; a run's clock that goes back is out of order, not a reboot.
+TEST(JoinedReplay, FilesThatNameTheirRunAreSplitByIt) {
+  TempDir dir;
+  const auto part = [&](const std::string& name, const std::string& run, const std::string& lines) {
+    return dir.file(
+        name, "# sensor: hand-made\n# rolling series run " + run + ", file 1\ntime_s,gx_dps,gy_dps,gz_dps\n" + lines);
+  };
+  const auto crashed = part("r1.csv", "headingd-r1", "0.0,0,0,1\n0.5,0,0,2\n0.9,0,0");  // cut short
+  const auto restarted = part("r2.csv", "headingd-r2", "5.0,0,0,3\n5.5,0,0,4\n# continued in r2b.csv\n");
+  const auto lost = part("r2b.csv", "headingd-r2", "6.0,0,0,5\n6.");  // a full disk
+  const auto resumed = part("r2c.csv", "headingd-r2", "9.0,0,0,6\n");
+  std::vector<Sample> batch(16);
+  {
+    JoinedReplaySource joined({crashed, restarted, lost, resumed}, true);
+    EXPECT_EQ(read_all(joined).size(), 2u) << "run 1 ends at its crash though the clock goes on";
+    ASSERT_EQ(joined.damaged_parts().size(), 1u);
+    EXPECT_EQ(joined.damaged_parts()[0].file, crashed);
+    ASSERT_TRUE(joined.next_run());
+    EXPECT_EQ(joined.current_file(), restarted);
+    const auto run2 = read_all(joined);
+    ASSERT_EQ(run2.size(), 4u) << "run 2 goes on over its lost file";
+    EXPECT_DOUBLE_EQ(run2.back().t_s, 9.0);
+    EXPECT_EQ(joined.damaged_parts().size(), 1u);
+    EXPECT_FALSE(joined.next_run());
+  }
+  {
+    JoinedReplaySource joined({crashed, restarted}, false);  // one replay: the restart carried on, named
+    EXPECT_EQ(read_all(joined).size(), 4u);
+    ASSERT_EQ(joined.run_boundaries().size(), 1u);
+    EXPECT_EQ(joined.run_boundaries()[0].file, restarted);
+  }
+  {
+    const auto back = part("r2d.csv", "headingd-r2", "2.0,0,0,7\n");  // run 2's clock going back
+    JoinedReplaySource joined({restarted, lost, back}, true);
+    EXPECT_THROW(
+        {
+          while (joined.read(batch) > 0) {
+          }
+        },
+        InputError);
+  }
+}
+
 TEST(CsvReplay, SharedBroadRecordingReadsCompletely) {
   const std::string path = HEADINGD_SOURCE_DIR "/../shared/data/broad-05/imu.csv";
   if (!std::ifstream(path)) GTEST_SKIP() << "shared data not beside the checkout";

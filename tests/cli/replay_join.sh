@@ -3,12 +3,13 @@
 # two runs of the recorder (a restart: the second run's sample clock starts again), vehicle-2's
 # one. Each run's row and estimates equal the replay of that run's files joined on their own;
 # a run cut short (its last file truncated and without its closing line, as a crash leaves it)
-# still ends its row there, the damage named (exit 65), and the next run gets its own row. And a
+# still ends its row there, the damage named (exit 65), and the next run gets its own row, also
+# when the restart was on the same boot (the clock going on: the run named in each file). And a
 # real BROAD recording cut in three and joined equals the whole. Usage: replay_join.sh HEADINGD [DATA_ROOT]
 set -uo pipefail
 headingd="$1"
 dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
+trap '[ -n "${KEEP:-}" ] || rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 cd "$dir" || exit 1
 
@@ -58,6 +59,23 @@ rc=$?
 grep "run 1 from" crash.txt | grep -q "damaged part passed: .*$(basename "$last")" || fail "run 1's row: $(cat crash.txt)"
 grep "run 2 from" crash.txt | grep -q "  -$" || fail "run 2's row: $(cat crash.txt)"
 echo "ok: a run cut short by a crash: its row names the damage, the next run has its own row (65)"
+
+# The same crash with the daemon restarted on the same boot (systemd's Restart=): the sample clock
+# goes on (CLOCK_MONOTONIC), so only the files' own words tell the runs apart, the name of the run
+# each file's header carries. Run 2's times shifted 1000 s on by awk, as that restart gives them.
+for f in "${run2[@]}"; do
+  zstd -dc "$f" | awk -F, -v OFS=, '/^#/ || $1 == "time_s" { print; next } { $1 = sprintf("%.9f", $1 + 1000); print }' |
+    zstd -q -f -o "$f.tmp" && mv "$f.tmp" "$f" || fail "shifting $f"
+done
+grep -q "^# rolling series run $(basename "${run2[0]%.csv.zst}"), file 2$" <(zstd -dc "${run2[1]}") ||
+  fail "run 2's second file does not name its run: $(zstd -dc "${run2[1]}" | grep 'series run')"
+"$headingd" replay -r --join fleet/vehicle-1 --output-rate 0 --output-dir out3 >same-boot.txt 2>same-boot.err
+rc=$?
+[ "$rc" -eq 65 ] && [ "$(grep -c '^fleet/vehicle-1/ run' same-boot.txt)" -eq 2 ] ||
+  fail "a crash and a restart on the same boot: exit $rc: $(cat same-boot.txt same-boot.err)"
+grep "run 1 from" same-boot.txt | grep -q "damaged part passed: .*$(basename "$last")" || fail "run 1's row: $(cat same-boot.txt)"
+check_run "out3/$(basename "${run2[0]%.csv.zst}").estimates.csv" "${run2[@]}"
+echo "ok: a crash and a restart on the same boot: two rows, the second equal to its own files joined (65)"
 
 # A real recording we did not write (BROAD trial 05, EuRoC layout), cut into three parts by awk,
 # one left plain, one zstd, one gzip: joined, its estimates equal the whole file's byte for byte.
