@@ -3,11 +3,7 @@
 # the table equals what the single-file replay of that recording reports, the estimates files equal
 # the single replay's byte for byte, a damaged recording is a row with its error (exit 65) while
 # the others are done, and two recordings that would write one file are refused before starting.
-set -uo pipefail
-headingd="$1"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/cli_common.sh"
 cd "$dir" || exit 1
 mkdir fleet
 for i in 1 2 3 4 5; do

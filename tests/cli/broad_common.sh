@@ -1,12 +1,9 @@
 # Shared by broad_trials.sh and broad_moving_start.sh (sourced, with their three arguments):
 # a scratch directory, and one replay scored against the BROAD truth as a ratio to a reference.
 # Arguments of the sourcing script: HEADINGD BROAD_HEADING_ERROR DATA_ROOT
-headingd="$1"
+source "$(dirname "$0")/cli_common.sh"
 score="$2"
 data="$3"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 [ -d "$data/broad-05" ] || { echo "SKIP: no $data/broad-05"; exit 77; }
 
 # check_ratio LABEL IMU TRUTH REFERENCE_LINE MAX [MIN_WITHIN]: replays IMU with auto, scores it,

@@ -4,11 +4,7 @@
 # X.csv.zst` writes a file `zstd -t` accepts and `zstd -d` turns into the plain recording; a
 # truncated or corrupted file is an error naming the file and the uncompressed line (exit 65),
 # with the estimates before it kept.
-set -uo pipefail
-headingd="$1"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/cli_common.sh"
 
 "$headingd" simulate --scenario agv --seed 3 --hours 0.2 --output-dir "$dir/sim" >/dev/null || fail "simulate"
 plain="$dir/sim/imu.csv"

@@ -3,13 +3,9 @@
 # receives at least 99.9 % of the messages (by sequence number). A FIFO wake-up makes two or
 # three messages due back to back; the writer keeps a burst of them (kOrientationBurst).
 # Usage: dds_no_loss.sh HEADINGD SOURCE_ROOT [SECONDS]
-set -uo pipefail
-headingd="$1"
+source "$(dirname "$0")/cli_common.sh"
 root="$2"
 seconds="${3:-60}"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 printf '[dds]\ndomain_id = 54\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$root" >"$dir/cfg.toml"
 "$headingd" run --simulated-chip agv --sim-realtime --duration $((seconds + 4)) -c "$dir/cfg.toml" 2>"$dir/run.err" &
 pid=$!

@@ -6,13 +6,9 @@
 # of its own, a tmpfs in a mount namespace made here, so other processes' files cannot hide
 # or fake a leak). DDS is on in every case but one, with shared memory (config/fastdds-loopback-shm.xml).
 # Usage: exit_paths.sh HEADINGD NOTIFY_LISTENER SOURCE_ROOT
-set -uo pipefail
-headingd="$1"
+source "$(dirname "$0")/cli_common.sh"
 listener="$2"
 root="$3"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 # Shared memory on (the opt-in profile), so there are segments whose removal is checked.
 printf '[dds]\ndomain_id = 49\ntransport = "shm"\nprofiles_xml = "%s/config/fastdds-loopback-shm.xml"\n' "$root" >"$dir/cfg.toml"
 recording="$root/tests/data/agv-1min/imu.csv"

@@ -2,11 +2,7 @@
 # `plot` draws a PNG (or SVG) of a replay with its truth and recording: the file is a real PNG of
 # the promised size; a name built to break out of a gnuplot script is only a name; `replay
 # --plot` does the same in one command; bad inputs are errors that name them.
-set -uo pipefail
-headingd="$1"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/cli_common.sh"
 cd "$dir" || exit 1
 
 "$headingd" simulate --scenario thermal --seed 2 --hours 0.1 --output-dir sim >/dev/null 2>&1 || fail "simulate"

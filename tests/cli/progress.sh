@@ -1,11 +1,7 @@
 #!/usr/bin/env bash
 # A replay longer than two seconds draws a progress line on a terminal (samples, rate, share done,
 # time left) and erases it for the summary; with standard error not a terminal, no line at all.
-set -uo pipefail
-headingd="$1"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/cli_common.sh"
 "$headingd" simulate --scenario agv --seed 1 --hours 0.05 --output-dir "$dir/sim" >/dev/null 2>&1 || fail "simulate"
 # 180 s of data at 50x real time: 3.6 s, under a pseudo-terminal made by script(1).
 script -qec "$headingd replay --no-dds --speed 50 $dir/sim/imu.csv -o $dir/est.csv" "$dir/tty.txt" >/dev/null ||

@@ -6,11 +6,7 @@
 # still ends its row there, the damage named (exit 65), and the next run gets its own row, also
 # when the restart was on the same boot (the clock going on: the run named in each file). And a
 # real BROAD recording cut in three and joined equals the whole. Usage: replay_join.sh HEADINGD [DATA_ROOT]
-set -uo pipefail
-headingd="$1"
-dir="$(mktemp -d)"
-trap '[ -n "${KEEP:-}" ] || rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/cli_common.sh"
 cd "$dir" || exit 1
 
 record() {  # record VEHICLE SEED SECONDS: a run of the simulated chip, a file per 10.8 s

@@ -5,11 +5,7 @@
 # files and leaves the first run's untouched; with --record-keep-hours 0 only the file being
 # written is kept; --record and --record-dir together are refused. A full disk under a rolling
 # recording: tests/cli/ros2_full_disk.sh, beside a ROS 2 peer.
-set -uo pipefail
-headingd="$1"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/cli_common.sh"
 cd "$dir" || exit 1
 
 rolling_run() {  # rolling_run SEED EXTRA...: 30 s of the simulated chip, a file per 10.8 s

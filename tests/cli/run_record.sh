@@ -3,11 +3,7 @@
 # the very same estimates, sample for sample, through `replay` and through `run --recording`
 # (run's own path with the pacer at max). `record` alone writes the same file. Missing
 # hardware gives clear errors.
-set -uo pipefail
-headingd="$1"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/cli_common.sh"
 
 "$headingd" run --simulated-chip agv --sim-seed 5 --sim-rate-error 0.03 --duration 60 \
   --output "$dir/live.csv" --output-rate 0 --record "$dir/rec.csv" 2>"$dir/run.log" || fail "run: $(cat "$dir/run.log")"

@@ -6,11 +6,7 @@
 # orientation. `replay` then `score` against the ground truth: the heading error stays small, every
 # estimate inside the truth's span is scored; the same estimates against a truth turned 5 degrees
 # more after the turn show 5 degrees; our bias against the truth's bias columns.
-set -uo pipefail
-headingd="$1"
-dir="$(mktemp -d)"
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/cli_common.sh"
 cd "$dir" || exit 1
 # Time stamps printed as seconds then nanoseconds: awk's numbers would round 19 digits.
 
