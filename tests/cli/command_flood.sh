@@ -2,17 +2,7 @@
 # 10,000 refused HeadingCommands from another DDS implementation (Cyclone) while headingd runs:
 # every one is counted (Status, the run summary), the log gets a handful of lines per 10 s
 # through log.cpp's per-kind limit, and the estimator is untouched (issue 15 item 5).
-set -uo pipefail
-headingd="$1"
-peer="$2"
-root="$3"
-dir="$(mktemp -d)"
-trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$dir"' EXIT
-fail() {
-  echo "FAIL: $*"
-  exit 1
-}
-export CYCLONEDDS_URI="file://$root/tests/interop/cyclone.xml"
+source "$(dirname "$0")/ros2_common.sh"
 domain=64
 n=10000
 printf '[dds]\ndomain_id = %d\nprofiles_xml = "%s/config/fastdds-loopback.xml"\n' "$domain" "$root" >"$dir/cfg.toml"

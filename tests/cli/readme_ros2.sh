@@ -3,17 +3,7 @@
 # peer discovers every reader and writer of ours (DCPSPublication/DCPSSubscription: topic, type,
 # reliability, durability); each README row must be one of them, and each of them a README row.
 # Then the same with a namespace: relative ROS names move under it, /diagnostics does not.
-set -uo pipefail
-headingd="$1"
-peer="$2"
-root="$3"
-dir="$(mktemp -d)"
-trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$dir"' EXIT
-fail() {
-  echo "FAIL: $*"
-  exit 1
-}
-export CYCLONEDDS_URI="file://$root/tests/interop/cyclone.xml"
+source "$(dirname "$0")/ros2_common.sh"
 domain=63
 
 # README rows -> "direction topic type reliability durability", types in their wire spelling.

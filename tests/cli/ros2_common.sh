@@ -1,14 +1,17 @@
+# shellcheck shell=bash
 # Sourced by the tests that run headingd beside the Cyclone DDS ROS 2 peer (tests/interop/ros_peer.c):
-# arguments HEADINGD PEER ROOT, a scratch directory (kept with KEEP=1), background jobs in `pids`
-# stopped on exit, fail(), and Cyclone's loopback configuration.
+# arguments HEADINGD PEER ROOT, a scratch directory (kept with KEEP=1), background jobs (those in
+# `pids` too) stopped on exit, fail(), and Cyclone's loopback configuration.
 set -uo pipefail
+# shellcheck disable=SC2034  # used by the sourcing script
 headingd="$1"
 peer="$2"
 root="$3"
 dir="$(mktemp -d)"
 [ -z "${KEEP:-}" ] || echo "keeping $dir"
 pids=()
-trap 'kill "${pids[@]}" 2>/dev/null; [ -n "${KEEP:-}" ] || rm -rf "$dir"' EXIT
+# shellcheck disable=SC2046  # the job ids, one word each
+trap 'kill "${pids[@]}" $(jobs -p) 2>/dev/null; [ -n "${KEEP:-}" ] || rm -rf "$dir"' EXIT
 fail() {
   echo "FAIL: $*"
   exit 1
