@@ -1,9 +1,8 @@
-# shellcheck shell=bash
+# shellcheck shell=bash disable=SC2034  # the variables are for the sourcing script
 # Sourced by the tests that run headingd beside the Cyclone DDS ROS 2 peer (tests/interop/ros_peer.c):
 # arguments HEADINGD PEER ROOT, a scratch directory (kept with KEEP=1), background jobs (those in
 # `pids` too) stopped on exit, fail(), and Cyclone's loopback configuration.
 set -uo pipefail
-# shellcheck disable=SC2034  # used by the sourcing script
 headingd="$1"
 peer="$2"
 root="$3"
