@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Shared by broad_trials.sh and broad_moving_start.sh (sourced, with their three arguments):
 # a scratch directory, and one replay scored against the BROAD truth as a ratio to a reference.
 # Arguments of the sourcing script: HEADINGD BROAD_HEADING_ERROR DATA_ROOT

@@ -22,7 +22,7 @@ sleep 2
 "$headingd" run --simulated-chip still --sim-realtime --duration 10 -c "$dir/warn.toml" 2>"$dir/second.err" &
 second=$!
 "$headingd" echo status -c "$dir/warn.toml" --timeout 8 >"$dir/status.txt" 2>&1
-for i in $(seq 50); do grep -q "another publisher of our topics" "$dir/second.err" && break; sleep 0.1; done
+for _ in $(seq 50); do grep -q "another publisher of our topics" "$dir/second.err" && break; sleep 0.1; done
 grep -q "another publisher of our topics on this domain and prefix: participant 'headingd', GUID prefix .*, started before this one" \
   "$dir/second.err" || fail "warn: the second instance did not log the conflict within 5 s: $(head -3 "$dir/second.err")"
 wait "$second" || fail "warn: the second instance exited $?"

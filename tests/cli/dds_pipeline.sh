@@ -27,7 +27,7 @@ pids+=($!)
 "$headingd" replay "$dir/imu.csv" --speed realtime --wait-subscribers 10 --linger 10 -c "$dir/cfg.toml" -o /dev/null 2>"$dir/replay.err" &
 replay=$!
 replay_start=$(date +%s)
-pids+=($replay)
+pids+=("$replay")
 sleep 4
 "$headingd" command set-heading --heading-deg 90 -c "$dir/cfg.toml" || fail "valid command not sent"
 "$headingd" command set-heading --heading-rad nan -c "$dir/cfg.toml" || fail "NaN command not sent"

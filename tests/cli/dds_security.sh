@@ -26,7 +26,7 @@ pids+=($!)
 pids+=($!)
 "$headingd" replay "$dir/imu.csv" --speed realtime --wait-subscribers 15 --linger 3 -c "$dir/headingd.toml" -o /dev/null 2>"$dir/replay.err" &
 replay=$!
-pids+=($replay)
+pids+=("$replay")
 sleep 6
 "$headingd" command set-heading --heading-deg 45 -c "$dir/plain.toml" --wait 3 >/dev/null 2>&1 && fail "an unauthenticated command found a reader"
 "$headingd" command set-heading --heading-deg 30 -c "$dir/observer.toml" >"$dir/observer.err" 2>&1 && fail "observer may not send commands"
