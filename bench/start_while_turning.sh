@@ -24,6 +24,8 @@ for after in 0 90; do
   sigma=$(tail -n 1 "$out/est-$after.csv" | cut -d, -f10)
   label="recover_after_s=$after"
   [ "$after" = 0 ] && label="no recovery"
-  "$headingd" score "$out/est-$after.csv" "$out/truth.csv" --label "$label" $([ "$after" = 0 ] && echo --header)
+  header=()
+  [ "$after" = 0 ] && header=(--header)
+  "$headingd" score "$out/est-$after.csv" "$out/truth.csv" --label "$label" "${header[@]}"
   echo "  final heading sigma: $sigma deg"
 done

@@ -18,8 +18,10 @@ phases="${1:-4}"
 }
 dir="$(mktemp -d)"
 trap 'rm -rf "$dir"' EXIT
+runs=()
 for ((k = 0; k < phases; ++k)); do
   "$HEADINGD_ROOT/build/default/bench/sweep" "${2:-200}" "${3:-2}" "${4:-1}" "$k" >"$dir/$k.txt"
+  runs+=("$dir/$k.txt")
 done
 
 echo "per run (estimators started SKIP samples into each world):"
@@ -67,4 +69,4 @@ awk -F'|' '
       for (s in seeds) { w += (auto[s, r] > auto[s, 1] + 0.05); n += (notemp[s, r] > notemp[s, 1] + 0.05) }
       printf "  skip %d: auto %d, auto-notemp %d\n", r - 1, w, n
     }
-  }' $(for ((k = 0; k < phases; ++k)); do echo "$dir/$k.txt"; done)
+  }' "${runs[@]}"

@@ -1,3 +1,4 @@
+# shellcheck shell=bash disable=SC2034  # HEADINGD_PACKAGES is for the sourcing script
 # Shared by the README's commands: install what is missing, configure and build.
 # Sourced, not run. Works as root on a fresh Debian 12; uses sudo otherwise.
 
@@ -10,7 +11,7 @@ HEADINGD_PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev gdb
   gnuplot-nox zstd
-  clang libclang-rt-14-dev clang-format clang-tidy
+  clang libclang-rt-14-dev clang-format clang-tidy shellcheck
   openssl systemd
 )
 
@@ -34,7 +35,7 @@ ensure_packages() {
 # argument the compiler output goes to build/PRESET.log and is shown only on failure.
 build_preset() {
   local preset="${1:-default}"
-  cd "$HEADINGD_ROOT"
+  cd "$HEADINGD_ROOT" || return 1
   if [ "${2:-}" = quiet ]; then
     mkdir -p build
     local log="build/$preset.log"

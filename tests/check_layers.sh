@@ -29,13 +29,21 @@ report() {
   problems=$((problems + 1))
 }
 checked=0
+quoted_include='^[[:space:]]*#[[:space:]]*include[[:space:]]*"([^"]*)"'
+system_include='^[[:space:]]*#[[:space:]]*include[[:space:]]*<([^>]*)>'
 for folder in "${!allowed[@]}"; do
   [ -d "$folder" ] || { report "$folder/: missing (a layer was renamed? update tests/check_layers.sh)"; continue; }
   while IFS= read -r file; do
     checked=$((checked + 1))
     while IFS=: read -r line text; do
-      target="$(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' <<<"$text")"
-      system="$(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*<\([^>]*\)>.*/\1/p' <<<"$text")"
+      # bash's own matching, not a sed per line: this runs over every include of the tree, eight
+      # times in lint.layers.
+      target="" system=""
+      if [[ "$text" =~ $quoted_include ]]; then
+        target="${BASH_REMATCH[1]}"
+      elif [[ "$text" =~ $system_include ]]; then
+        system="${BASH_REMATCH[1]}"
+      fi
       if [ -n "$target" ]; then
         case "$target" in
           */*)
