@@ -155,18 +155,22 @@ void RollingRecordingSink::start_file(double t_s) {
     current_.reset();
     wrote_since_resume_ = true;  // closed without an error: all of it is on the disk
   }
-  delete_expired();  // first: on a full disk, what expires makes the room for the next file
+  delete_expired(t_s);  // first: on a full disk, what expires makes the room for the next file
   std::string name = std::filesystem::path(path).filename().string();
   if (run_name_.empty()) run_name_ = name.substr(0, name.size() - std::strlen(kEnding));
   current_.emplace(path, comments_ + "# " + app::kSeriesRunComment + run_name_ + ", file " +
                              std::to_string(files_started_ + 1) + "\n");
+  own_files_[name] = t_s;
   file_start_t_s_ = t_s;
   ++files_started_;
 }
 
 // Only names of the series (rolling_file_time), only regular files (a link is not followed nor
-// removed); a directory we cannot list is said and left.
-void RollingRecordingSink::delete_expired() {
+// removed); a directory we cannot list is said and left. Earlier runs' files are aged by the time
+// in their names; this run's by the sample clock (`t_s`: the next file's first sample), so a wall
+// clock stepped by years mid-run (set at boot on a computer without a battery-backed clock) does
+// not delete the run's own recent files.
+void RollingRecordingSink::delete_expired(double t_s) {
   DIR* dir = ::opendir(settings_.dir.c_str());
   if (dir == nullptr) {
     app::log(app::LogPriority::Warning, "recording expiry",
@@ -178,12 +182,16 @@ void RollingRecordingSink::delete_expired() {
     const std::string name = entry->d_name;
     const auto started = rolling_file_time(name);
     const std::string path = settings_.dir + "/" + name;
-    if (!started || *started >= oldest_kept_s) continue;
+    if (!started) continue;
+    const auto own = own_files_.find(name);
+    if (own != own_files_.end() ? t_s - own->second <= settings_.keep_hours * 3600.0 : *started >= oldest_kept_s)
+      continue;
     struct stat info {};
     if (::fstatat(::dirfd(dir), name.c_str(), &info, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(info.st_mode)) continue;
-    if (::unlinkat(::dirfd(dir), name.c_str(), 0) == 0)
+    if (::unlinkat(::dirfd(dir), name.c_str(), 0) == 0) {
       ++files_deleted_;
-    else
+      if (own != own_files_.end()) own_files_.erase(own);
+    } else
       app::log(app::LogPriority::Warning, "recording expiry", "cannot delete " + path + ": " + std::strerror(errno));
   }
   ::closedir(dir);

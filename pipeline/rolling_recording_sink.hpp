@@ -7,6 +7,7 @@
 // holds a bounded window. Each file is a whole recording (the sensor's provenance header, a
 // closing line naming the next) that replays on its own.
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -46,7 +47,7 @@ class RollingRecordingSink final : public Sink {
 
  private:
   void start_file(double t_s);
-  void delete_expired();
+  void delete_expired(double t_s);
   template <typename Call>
   void guarded(Call call, double t_s);
   void lose_file(const std::string& why, double t_s);
@@ -59,6 +60,9 @@ class RollingRecordingSink final : public Sink {
   std::optional<RecordingSink> current_;
   double file_start_t_s_ = 0.0;
   std::string run_name_;  // the run's first file's name, without the ending: in every file's header
+  // This run's files (name, first sample's time): their age is measured on the sample clock, which
+  // a wall clock set at boot (NTP, no RTC) cannot step; their names' times can be years off.
+  std::map<std::string, double> own_files_;
   std::uint64_t files_started_ = 0;
   std::uint64_t files_deleted_ = 0;
   OutputDrops* drops_ = nullptr;

@@ -150,6 +150,35 @@ TEST(RollingRecording, DeletesOnlyTheSeriesOwnOldFiles) {
   EXPECT_EQ(names.size(), 6u);  // the five kept and the file just started
 }
 
+// A computer without a battery-backed clock starts in the past and has its wall clock set by NTP
+// mid-run, years on: the run's own files, named in the past, are aged by the sample clock and
+// kept (keep 1 h; the run is 5 min long); an earlier run's file named in the past is deleted.
+TEST(RollingRecording, AWallClockSetYearsOnMidRunKeepsTheRunsOwnFiles) {
+  TempDir dir;
+  RollingSettings settings{dir.path("rec"), 60.0 / 3600.0, 1.0};  // a file per minute, an hour kept
+  fs::create_directories(settings.dir);
+  std::ofstream(settings.dir + "/headingd-20000101T000000Z.csv.zst") << "x\n";  // an earlier run's
+  fake_now_s = 946684900.0;                                                     // 2000-01-01T00:01:40Z
+  RollingRecordingSink sink(settings, "", fake_wall);
+  headingd::core::Estimator estimator(headingd::core::kDefaultEstimatorSettings);
+  const auto all = samples(300.0, 100.0);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    fake_now_s += i == 15000 ? 26.9 * 365.25 * 86400.0 : (i % 100 == 0 ? 1.0 : 0.0);  // NTP at 150 s
+    sink.add(all[i], estimator.update(all[i]), estimator);
+  }
+  headingd::core::MemorySource source(all);
+  sink.finish(estimator, source);
+  const auto names = names_in(settings.dir);
+  ASSERT_EQ(names.size(), 5u) << "the run's five files, the earlier run's gone";
+  EXPECT_EQ(sink.files_deleted(), 1u);
+  EXPECT_EQ(std::count_if(names.begin(), names.end(), [](const auto& n) { return n.starts_with("headingd-2000"); }), 3)
+      << "three files started before the clock was set, kept";
+  std::size_t total = 0;
+  for (const auto& name : names) total += samples_in(settings.dir + "/" + name);
+  EXPECT_EQ(total, all.size());
+  fake_now_s = 1796000000.0;
+}
+
 namespace {
 
 // The file-size limit of this process (RLIMIT_FSIZE) as a disk that fills: a write past it fails
