@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <thread>
+#include <tuple>
 
 #include "io/companion_file.hpp"
 #include "io/csv_out.hpp"
@@ -162,8 +163,31 @@ std::vector<Row> replay_group(const std::vector<FoundRecording>& group, const Ba
 
 namespace {
 
+// A series' files by their run and number; any other file by its own name, as the first of a
+// run of its own (a series' first file's name, without the ending, is its run's name).
+void put_in_series_order(std::vector<FoundRecording>& found) {
+  struct Keyed {
+    std::string folder, run;
+    long file;
+    FoundRecording recording;
+  };
+  std::vector<Keyed> keyed;
+  for (auto& f : found) {
+    const fs::path path(f.path);
+    const auto position = drivers::series_position(f.path);
+    std::string stem = path.filename().string();
+    stem = stem.substr(0, stem.find('.'));
+    keyed.push_back(
+        {path.parent_path().string(), position ? position->run : stem, position ? position->file : 0, std::move(f)});
+  }
+  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
+    return std::tie(a.folder, a.run, a.file, a.recording.path) < std::tie(b.folder, b.run, b.file, b.recording.path);
+  });
+  for (std::size_t i = 0; i < found.size(); ++i) found[i] = std::move(keyed[i].recording);
+}
+
 // One directory's recordings, sorted; false after saying why when it cannot be read.
-bool list_directory(const std::string& input, bool recursive, std::vector<FoundRecording>& files) {
+bool list_directory(const std::string& input, bool recursive, bool series_order, std::vector<FoundRecording>& files) {
   std::vector<FoundRecording> found;
   std::vector<std::string> skipped;
   std::error_code error;
@@ -207,18 +231,19 @@ bool list_directory(const std::string& input, bool recursive, std::vector<FoundR
     return false;
   }
   std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
+  if (series_order) put_in_series_order(found);
   files.insert(files.end(), found.begin(), found.end());
   return true;
 }
 
 }  // namespace
 
-std::vector<FoundRecording> expand_inputs(const std::vector<std::string>& inputs, bool recursive) {
+std::vector<FoundRecording> expand_inputs(const std::vector<std::string>& inputs, bool recursive, bool series_order) {
   std::vector<FoundRecording> files;
   for (const auto& input : inputs) {
     std::error_code error;
     if (fs::is_directory(input, error)) {
-      if (!list_directory(input, recursive, files)) return {};
+      if (!list_directory(input, recursive, series_order, files)) return {};
     } else if (fs::exists(input, error)) {
       files.push_back({input, ""});
     } else {

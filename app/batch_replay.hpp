@@ -34,8 +34,11 @@ struct BatchOptions {
 
 // The recordings `inputs` names, in order, directories expanded (sorted; at every depth when
 // `recursive`, links to directories not followed); empty after saying why on stderr when one
-// is missing or unreadable.
-std::vector<FoundRecording> expand_inputs(const std::vector<std::string>& inputs, bool recursive = false);
+// is missing or unreadable. `series_order` (--join): a directory's files of a rolling series in
+// the order their headers give (run, then number in the run), not their names' (a wall clock
+// stepped back mid-run names later files earlier); the others by name, folder by folder.
+std::vector<FoundRecording> expand_inputs(const std::vector<std::string>& inputs, bool recursive = false,
+                                          bool series_order = false);
 
 // The recordings grouped by the folder they are in, each group in the order found (folders in
 // the order their first recording came): what `--join` replays as one run each.

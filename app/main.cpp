@@ -199,7 +199,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "headingd: --join replays files: '-' does not apply\n");
         return app::kExitUsage;
       }
-      const std::vector<app::FoundRecording> found = app::expand_inputs(replay_inputs, batch.recursive);
+      const std::vector<app::FoundRecording> found = app::expand_inputs(replay_inputs, batch.recursive, true);
       if (found.empty()) return app::kExitNoInput;
       // One folder's recordings: one run, one replay (-o, --plot). Several folders (a fleet's
       // rolling series, `-r`), or the batch's options: a row per folder, each joined.

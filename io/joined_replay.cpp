@@ -1,21 +1,45 @@
 #include "io/joined_replay.hpp"
 
 #include <algorithm>
+#include <charconv>
 
 #include "io/native_csv.hpp"
 
 namespace headingd::drivers {
 namespace {
 
+std::optional<SeriesPosition> position_in(const CsvReplaySource& file) {
+  const std::string_view key = app::kSeriesRunComment, number = ", file ";
+  for (const auto& comment : file.comments()) {
+    const auto comma = comment.find(number);
+    if (!comment.starts_with(key) || comma == std::string::npos) continue;
+    long n = 0;
+    const char* digits = comment.data() + comma + number.size();
+    const auto [end, error] = std::from_chars(digits, comment.data() + comment.size(), n);
+    if (error != std::errc() || end != comment.data() + comment.size() || n < 1) continue;
+    return SeriesPosition{comment.substr(key.size(), comma - key.size()), n};
+  }
+  return std::nullopt;
+}
+
 // The run a rolling series' file names in its header, "" if it names none.
 std::string series_run_of(const CsvReplaySource& file) {
-  const std::string_view key = app::kSeriesRunComment;
-  for (const auto& comment : file.comments())
-    if (comment.starts_with(key)) return comment.substr(key.size(), comment.find(',') - key.size());
-  return {};
+  const auto position = position_in(file);
+  return position ? position->run : std::string();
 }
 
 }  // namespace
+
+std::optional<SeriesPosition> series_position(const std::string& path) {
+  try {
+    const CsvReplaySource file(path);
+    return position_in(file);
+  } catch (const OpenError&) {
+    return std::nullopt;
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
+}
 
 JoinedReplaySource::JoinedReplaySource(std::vector<std::string> paths, bool split_runs)
     : paths_(std::move(paths)), split_runs_(split_runs) {

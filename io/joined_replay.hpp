@@ -18,6 +18,15 @@
 
 namespace headingd::drivers {
 
+// Where a file sits in a rolling series, from the line its header carries ("rolling series run
+// NAME, file N"); nothing for any other file, or one whose header cannot be read. A wall clock
+// stepped back mid-run gives later files earlier names: this order does not move with it.
+struct SeriesPosition {
+  std::string run;  // the run's first file's name, without its ending
+  long file = 0;    // 1 for the run's first file
+};
+std::optional<SeriesPosition> series_position(const std::string& path);
+
 class JoinedReplaySource final : public core::SampleSource {
  public:
   // Opens the first file (OpenError, InputError); the others when their turn comes. A later part

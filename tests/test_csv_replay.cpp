@@ -221,6 +221,12 @@ TEST(JoinedReplay, FilesThatNameTheirRunAreSplitByIt) {
   const auto restarted = part("r2.csv", "headingd-r2", "5.0,0,0,3\n5.5,0,0,4\n# continued in r2b.csv\n");
   const auto lost = part("r2b.csv", "headingd-r2", "6.0,0,0,5\n6.");  // a full disk
   const auto resumed = part("r2c.csv", "headingd-r2", "9.0,0,0,6\n");
+  const auto position = headingd::drivers::series_position(lost);
+  ASSERT_TRUE(position.has_value());
+  EXPECT_EQ(position->run, "headingd-r2");
+  EXPECT_EQ(position->file, 1);
+  EXPECT_FALSE(headingd::drivers::series_position(dir.file("plain.csv", "time_s,gx_dps,gy_dps,gz_dps\n0,0,0,0\n")));
+  EXPECT_FALSE(headingd::drivers::series_position(dir.path("missing.csv")));
   std::vector<Sample> batch(16);
   {
     JoinedReplaySource joined({crashed, restarted, lost, resumed}, true);

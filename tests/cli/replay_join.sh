@@ -45,6 +45,20 @@ rc=$?
 [ "$rc" -eq 65 ] && grep -q "another run, after the machine restarted" one.log || fail "one replay of two runs: exit $rc: $(head -2 one.log)"
 echo "ok: --join -o over two runs stops at the restart, saying so (65)"
 
+# The wall clock stepped back an hour mid-run (a clock ahead, corrected): vehicle-2's last file is
+# named before its first. --join DIR follows the run and number each file's header gives, and
+# the estimates are the run's as before; the files named one by one, in name order, are refused.
+v2=(fleet/vehicle-2/*)
+"$headingd" replay --no-dds --join fleet/vehicle-2 --output-rate 0 -o v2-before.est 2>/dev/null || fail "vehicle-2 joined"
+stepped="fleet/vehicle-2/headingd-20000101T000000Z.csv.zst"
+mv "${v2[2]}" "$stepped"
+"$headingd" replay --no-dds --join fleet/vehicle-2 --output-rate 0 -o v2-stepped.est 2>stepped.log ||
+  fail "--join over a clock stepped back: $(cat stepped.log)"
+cmp -s v2-before.est v2-stepped.est || fail "the series' order after the clock stepped back is not its header's"
+"$headingd" replay --no-dds --join fleet/vehicle-2/* -o /dev/null 2>/dev/null && fail "files named in name order were not refused"
+mv "$stepped" "${v2[2]}"
+echo "ok: --join DIR orders a series by its files' headers: a wall clock stepped back mid-run changes nothing"
+
 # A crash: run 1's last file cut short, without its closing line. The row of run 1 ends with the
 # damage named; run 2 still has its row.
 last="${run1[2]}"
