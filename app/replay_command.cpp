@@ -59,7 +59,8 @@ int run_replay(const ReplayOptions& options) {
     const int code = run_read_ahead(*joined, job);
     for (const auto& boundary : joined->run_boundaries())
       std::fprintf(stderr,
-                   "headingd: --join: %s starts another run of the recorder (the file before it ends its run); "
+                   "headingd: --join: %s starts another run of the recorder (it names another run, or the file before "
+                   "it ends its run); "
                    "the estimator carried on across the %.1f s between, where the daemon had restarted from its "
                    "state file\n",
                    boundary.file.c_str(), boundary.gap_s);
