@@ -67,9 +67,9 @@ int main(int argc, char** argv) {
       replay_cmd->add_option("--summary-csv", batch.summary_csv, "With several recordings: the table as CSV too");
   bool join = false;
   replay_cmd->add_flag("--join", join,
-                       "Several recordings (or a directory's, in name order: a rolling series) as one run, the "
-                       "estimator carrying on from each file into the next; with several folders, each folder one "
-                       "run, one table row");
+                       "Several recordings (or a directory's: a rolling series in the order its files' headers "
+                       "give, others by name) as one run, the estimator carrying on from each file into the next; "
+                       "with several folders, each folder's runs of the recorder a table row each");
   replay_cmd->add_option("--method", replay.method, "Bias method: auto (default), or the paper's a, b, c");
   replay_cmd->add_option("-o,--output", replay.output, "Estimates CSV ('-' = standard output)");
   replay_cmd->add_option("--output-rate", replay.output_rate_hz, "Rows per second; 0 = every sample")
