@@ -253,10 +253,9 @@ int main(int argc, char** argv) {
     }
     const int code = app::run_replay(replay);
     if (code != app::kExitOk || replay_plot.empty()) return code;
-    // Joined, the recording's temperature is not drawn: the plot reads one recording.
     return app::run_plot({replay.output, std::nullopt,
                           replay.joined.empty() ? std::optional<std::string>(replay.input) : std::nullopt,
-                          replay_plot});
+                          replay.joined, replay_plot});
   }
   if (simulate_cmd->parsed()) return app::run_simulate(simulate);
   if (plot_cmd->parsed()) return app::run_plot(plot);

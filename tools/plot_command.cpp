@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "io/csv_replay.hpp"
+#include "io/joined_replay.hpp"
 #include "io/line_reader.hpp"
 #include "service/exit_codes.hpp"
 #include "service/input_errors.hpp"
@@ -82,13 +84,22 @@ int run_plot(const PlotOptions& options) {
           score_heading(read_columns(options.estimates, "time_s", "heading_deg"), TimeSeries{truth[0], truth[1]},
                         &errors);
         }
-        if (options.recording) {  // any recording replay reads (native or EuRoC, plain or compressed)
-          const std::size_t rec_every = std::max<std::size_t>(1, data_rows(*options.recording) / kMaxPoints);
-          drivers::CsvReplaySource source(*options.recording);
+        // Any recording replay reads (native or EuRoC, plain or compressed), or those it joined.
+        std::unique_ptr<core::SampleSource> source;
+        std::size_t rows = 0;
+        if (!options.joined.empty()) {
+          for (const auto& part : options.joined) rows += data_rows(part);
+          source = std::make_unique<drivers::JoinedReplaySource>(options.joined);
+        } else if (options.recording) {
+          rows = data_rows(*options.recording);
+          source = std::make_unique<drivers::CsvReplaySource>(*options.recording);
+        }
+        if (source) {
+          const std::size_t rec_every = std::max<std::size_t>(1, rows / kMaxPoints);
           std::vector<core::Sample> batch(4096);
           rec.assign(2, {});
           std::size_t n = 0;
-          while (const std::size_t got = source.read(batch))
+          while (const std::size_t got = source->read(batch))
             for (std::size_t i = 0; i < got; ++i)
               if (n++ % rec_every == 0) {
                 rec[0].push_back(batch[i].t_s);

@@ -4,6 +4,7 @@
 // still segments shaded.
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace headingd::app {
 
@@ -11,6 +12,7 @@ struct PlotOptions {
   std::string estimates;                 // estimates CSV from replay or run
   std::optional<std::string> truth;      // truth.csv from simulate (time_s, heading_deg)
   std::optional<std::string> recording;  // the recording, for the temperature
+  std::vector<std::string> joined;       // or the recordings a `replay --join` read as one run
   std::string output;                    // .png or .svg
 };
 

@@ -46,6 +46,14 @@ echo "ok: a hostile output name is only a name; a planted link is replaced, not 
 [ "$(head -c 4 replay.png | od -An -tx1 | tr -d ' \n')" = 89504e47 ] || fail "replay --plot drew no PNG"
 echo "ok: replay --plot"
 
+# Joined, the temperature is drawn from all the parts (the recording cut in two by awk).
+awk '/^#/ { next } !h { h = 1; print > "part1.csv"; print > "part2.csv"; next }
+  { print > (++n <= 20000 ? "part1.csv" : "part2.csv") }' sim/imu.csv
+"$headingd" replay --no-dds --join part1.csv part2.csv -o joined.csv --quiet --plot joined.svg 2>err ||
+  fail "replay --join --plot: $(cat err)"
+grep -q 'sensor temperature' joined.svg || fail "replay --join --plot drew no temperature"
+echo "ok: replay --join --plot draws the temperature of the joined recordings"
+
 out=$("$headingd" plot est.csv -o out.jpg 2>&1); rc=$?
 [ "$rc" -eq 64 ] && grep -q "must end in .png or .svg" <<<"$out" || fail "bad extension: exit $rc: $out"
 out=$("$headingd" plot sim/truth.csv -o x.png 2>&1); rc=$?
