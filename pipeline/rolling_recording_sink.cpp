@@ -155,6 +155,10 @@ void RollingRecordingSink::start_file(double t_s) {
     current_.reset();
     wrote_since_resume_ = true;  // closed without an error: all of it is on the disk
   }
+  // The folder again: removed by hand under a running daemon (a clean-up), it comes back rather than
+  // costing every file until a restart.
+  std::error_code missing;
+  std::filesystem::create_directories(settings_.dir, missing);
   delete_expired(t_s);  // first: on a full disk, what expires makes the room for the next file
   std::string name = std::filesystem::path(path).filename().string();
   if (run_name_.empty()) run_name_ = name.substr(0, name.size() - std::strlen(kEnding));

@@ -179,6 +179,30 @@ TEST(RollingRecording, AWallClockSetYearsOnMidRunKeepsTheRunsOwnFiles) {
   fake_now_s = 1796000000.0;
 }
 
+// The folder removed by hand under a running series (a clean-up): the file being written is lost
+// with it, the next split makes the folder again and the series goes on.
+TEST(RollingRecording, AFolderRemovedMidRunComesBackAtTheNextSplit) {
+  TempDir dir;
+  RollingSettings settings{dir.path("rec"), 60.0 / 3600.0, 48.0};
+  RollingRecordingSink sink(settings, "", fake_wall);
+  headingd::pipeline::OutputDrops drops;
+  sink.resume_after_errors(drops);
+  headingd::core::Estimator estimator(headingd::core::kDefaultEstimatorSettings);
+  const auto all = samples(200.0, 100.0);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (i == 9000) fs::remove_all(settings.dir);  // 90 s in, the second file open
+    if (i % 100 == 0) fake_now_s += 1.0;
+    sink.add(all[i], estimator.update(all[i]), estimator);
+  }
+  headingd::core::MemorySource source(all);
+  sink.finish(estimator, source);
+  const auto names = names_in(settings.dir);
+  ASSERT_EQ(names.size(), 2u) << "the files from 120 s on";
+  std::size_t total = 0;
+  for (const auto& name : names) total += samples_in(settings.dir + "/" + name);
+  EXPECT_EQ(total, 8000u) << "120 s to 200 s";
+}
+
 namespace {
 
 // The file-size limit of this process (RLIMIT_FSIZE) as a disk that fills: a write past it fails
