@@ -179,30 +179,6 @@ TEST(RollingRecording, AWallClockSetYearsOnMidRunKeepsTheRunsOwnFiles) {
   fake_now_s = 1796000000.0;
 }
 
-// The folder removed by hand under a running series (a clean-up): the file being written is lost
-// with it, the next split makes the folder again and the series goes on.
-TEST(RollingRecording, AFolderRemovedMidRunComesBackAtTheNextSplit) {
-  TempDir dir;
-  RollingSettings settings{dir.path("rec"), 60.0 / 3600.0, 48.0};
-  RollingRecordingSink sink(settings, "", fake_wall);
-  headingd::pipeline::OutputDrops drops;
-  sink.resume_after_errors(drops);
-  headingd::core::Estimator estimator(headingd::core::kDefaultEstimatorSettings);
-  const auto all = samples(200.0, 100.0);
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    if (i == 9000) fs::remove_all(settings.dir);  // 90 s in, the second file open
-    if (i % 100 == 0) fake_now_s += 1.0;
-    sink.add(all[i], estimator.update(all[i]), estimator);
-  }
-  headingd::core::MemorySource source(all);
-  sink.finish(estimator, source);
-  const auto names = names_in(settings.dir);
-  ASSERT_EQ(names.size(), 2u) << "the files from 120 s on";
-  std::size_t total = 0;
-  for (const auto& name : names) total += samples_in(settings.dir + "/" + name);
-  EXPECT_EQ(total, 8000u) << "120 s to 200 s";
-}
-
 namespace {
 
 // The file-size limit of this process (RLIMIT_FSIZE) as a disk that fills: a write past it fails
@@ -246,80 +222,91 @@ std::vector<headingd::core::Sample> noisy_samples(double from_s, double seconds,
   return out;
 }
 
+// A series that resumes after write errors (as beside DDS) in a fresh folder; through(t) feeds
+// `all` up to sample time t as the pipeline would, the fake clock one second on per 100 samples.
+struct ResumingSeries {
+  ResumingSeries(double split_s, std::vector<headingd::core::Sample> samples, std::string comments = "")
+      : settings{dir.path("rec"), split_s / 3600.0, 48.0},
+        sink(settings, std::move(comments), fake_wall),
+        all(std::move(samples)) {
+    sink.resume_after_errors(drops);
+  }
+  void through(double until_s) {
+    for (; next < all.size() && all[next].t_s < until_s; ++next) {
+      if (next % 100 == 0) fake_now_s += 1.0;
+      sink.add(all[next], estimator.update(all[next]), estimator);
+    }
+  }
+  void finish() {
+    through(1e18);
+    headingd::core::MemorySource source(all);
+    sink.finish(estimator, source);
+  }
+  std::vector<std::string> names() const { return names_in(settings.dir); }
+  std::string path(const std::string& name) const { return settings.dir + "/" + name; }
+
+  TempDir dir;
+  RollingSettings settings;
+  RollingRecordingSink sink;
+  headingd::pipeline::OutputDrops drops;
+  headingd::core::Estimator estimator{headingd::core::kDefaultEstimatorSettings};
+  std::vector<headingd::core::Sample> all;
+  std::size_t next = 0;
+};
+
 }  // namespace
 
 // A disk that fills mid-file and has room again later: the file keeps what it holds, the
 // samples in between are not recorded, a new file starts after the wait and the series goes on;
 // the drop is counted once. A file that got nothing onto the disk is removed.
 TEST(RollingRecording, AFileThatCannotBeWrittenIsFollowedByANewOne) {
-  TempDir dir;
-  RollingSettings settings{dir.path("rec"), 180.0 / 3600.0, 48.0};  // a file per 3 minutes
-  RollingRecordingSink sink(settings, "# sensor: hand-made\n", fake_wall);
-  headingd::pipeline::OutputDrops drops;
-  sink.resume_after_errors(drops);
-  headingd::core::Estimator estimator(headingd::core::kDefaultEstimatorSettings);
-  const auto all = noisy_samples(100.0, 700.0, 100.0);
-  const auto through = [&](double until_s) {
-    static std::size_t next = 0;
-    for (; next < all.size() && all[next].t_s < until_s; ++next) {
-      if (next % 100 == 0) fake_now_s += 1.0;
-      sink.add(all[next], estimator.update(all[next]), estimator);
-    }
-  };
+  ResumingSeries series(180.0, noisy_samples(100.0, 700.0, 100.0), "# sensor: hand-made\n");  // a file per 3 min
   {
     FileSizeLimit full(rlim_t{64} * 1024);  // the first 1 MB of text CsvOut hands on fails past 64 kB
-    through(400.0);
-    EXPECT_EQ(drops.failing, 1u) << "not writing: /diagnostics warns";
-    through(500.0);
+    series.through(400.0);
+    EXPECT_EQ(series.drops.failing, 1u) << "not writing: /diagnostics warns";
+    series.through(500.0);
   }
-  through(1e9);
-  EXPECT_EQ(drops.failing, 0u) << "writing again: /diagnostics OK, the count stays";
-  headingd::core::MemorySource source(all);
-  sink.finish(estimator, source);
-
-  EXPECT_EQ(drops.count, 1u) << drops.last;
-  EXPECT_NE(drops.last.find("cannot write"), std::string::npos) << drops.last;
-  EXPECT_EQ(sink.files_lost(), 1u);
-  const auto names = names_in(settings.dir);
+  series.finish();
+  EXPECT_EQ(series.drops.failing, 0u) << "writing again: /diagnostics OK, the count stays";
+  EXPECT_EQ(series.drops.count, 1u) << series.drops.last;
+  EXPECT_NE(series.drops.last.find("cannot write"), std::string::npos) << series.drops.last;
+  EXPECT_EQ(series.sink.files_lost(), 1u);
+  const auto names = series.names();
   ASSERT_EQ(names.size(), 3u) << "the lost file (what it holds), the one that resumed, the next";
-  EXPECT_LE(fs::file_size(settings.dir + "/" + names[0]), 64u * 1024u);
-  EXPECT_GT(fs::file_size(settings.dir + "/" + names[0]), 0u);
-  EXPECT_THROW(samples_in(settings.dir + "/" + names[0]), headingd::drivers::InputError) << "cut short";
+  EXPECT_LE(fs::file_size(series.path(names[0])), 64u * 1024u);
+  EXPECT_GT(fs::file_size(series.path(names[0])), 0u);
+  EXPECT_THROW(samples_in(series.path(names[0])), headingd::drivers::InputError) << "cut short";
   // The first file failed at its first 1 MB of text (~15,000 samples in); the next one is tried
   // 180 s (one split) of samples later and, with the file after it, holds every sample from there.
-  const auto resumed = read_samples(settings.dir + "/" + names[1]);
-  const auto last = read_samples(settings.dir + "/" + names[2]);
+  const auto resumed = read_samples(series.path(names[1]));
+  const auto last = read_samples(series.path(names[2]));
   ASSERT_FALSE(resumed.empty());
   ASSERT_FALSE(last.empty());
   EXPECT_EQ(resumed.size(), 18000u) << "a whole split";
   EXPECT_GT(resumed.front().t_s, 100.0 + 180.0) << "not before the wait after the loss";
   EXPECT_LT(resumed.front().t_s, 500.0) << "started while the disk was full; its first write came after";
   const auto from_resume =
-      std::count_if(all.begin(), all.end(), [&](const auto& s) { return s.t_s >= resumed.front().t_s; });
+      std::count_if(series.all.begin(), series.all.end(), [&](const auto& s) { return s.t_s >= resumed.front().t_s; });
   EXPECT_EQ(static_cast<std::size_t>(from_resume), resumed.size() + last.size());
-  EXPECT_DOUBLE_EQ(last.back().t_s, all.back().t_s);
+  EXPECT_DOUBLE_EQ(last.back().t_s, series.all.back().t_s);
 }
 
 // No room at all: each file is lost at its first write, holds nothing and is removed; the run
 // goes on trying, one split apart, every loss counted.
 TEST(RollingRecording, FilesThatGotNothingOntoTheDiskAreRemoved) {
-  TempDir dir;
-  RollingSettings settings{dir.path("rec"), 60.0 / 3600.0, 48.0};
-  RollingRecordingSink sink(settings, "", fake_wall);
-  headingd::pipeline::OutputDrops drops;
-  sink.resume_after_errors(drops);
-  const auto all = noisy_samples(0.0, 400.0, 100.0);
+  ResumingSeries series(60.0, noisy_samples(0.0, 400.0, 100.0));
   {
     FileSizeLimit full(0);
-    feed(sink, all);
+    series.finish();
   }
-  EXPECT_TRUE(names_in(settings.dir).empty());
+  EXPECT_TRUE(series.names().empty());
   // Started at 0 s and lost at its split (60 s: CsvOut had not written before), tried again at
   // 120 s and lost at 180 s, and so on: 0, 120, 240, 360 (the last lost at finish).
-  EXPECT_EQ(sink.files_started(), 4u);
-  EXPECT_EQ(sink.files_lost(), 4u);
-  EXPECT_EQ(drops.count, 4u);
-  EXPECT_EQ(drops.failing, 1u);
+  EXPECT_EQ(series.sink.files_started(), 4u);
+  EXPECT_EQ(series.sink.files_lost(), 4u);
+  EXPECT_EQ(series.drops.count, 4u);
+  EXPECT_EQ(series.drops.failing, 1u);
 }
 
 // Files shorter than kWritingAgainS (a split of 5 s) and fed faster than real time: the series is
@@ -327,30 +314,33 @@ TEST(RollingRecording, FilesThatGotNothingOntoTheDiskAreRemoved) {
 // since it resumed, counted across the splits; not while the resumed file has put nothing on the
 // disk.
 TEST(RollingRecording, WritingAgainIsCountedAcrossSplitsOnceSamplesReachedTheDisk) {
-  TempDir dir;
-  RollingSettings settings{dir.path("rec"), 5.0 / 3600.0, 48.0};
-  RollingRecordingSink sink(settings, "", fake_wall);
-  headingd::pipeline::OutputDrops drops;
-  sink.resume_after_errors(drops);
-  headingd::core::Estimator estimator(headingd::core::kDefaultEstimatorSettings);
-  const auto all = noisy_samples(0.0, 60.0, 100.0);
-  std::size_t next = 0;
-  const auto through = [&](double until_s) {
-    for (; next < all.size() && all[next].t_s < until_s; ++next)
-      sink.add(all[next], estimator.update(all[next]), estimator);
-  };
+  ResumingSeries series(5.0, noisy_samples(0.0, 60.0, 100.0));
   {
     FileSizeLimit full(0);
-    through(5.5);  // the first file lost when the split at 5 s closed it; the next is tried at 10 s
-    EXPECT_EQ(drops.failing, 1u);
+    series.through(5.5);  // the first file lost when the split at 5 s closed it; the next is tried at 10 s
+    EXPECT_EQ(series.drops.failing, 1u);
   }
-  through(14.0);  // resumed at 10 s: open, nothing of it on the disk yet
-  EXPECT_EQ(drops.failing, 1u) << "a file that has written nothing is not writing again";
-  through(19.9);  // the resumed file closed at 15 s; 10 s since the resume not yet passed
-  EXPECT_EQ(drops.failing, 1u);
-  through(20.1);
-  EXPECT_EQ(drops.failing, 0u) << "writing again across splits shorter than 10 s";
-  EXPECT_EQ(drops.count, 1u) << drops.last;
+  series.through(14.0);  // resumed at 10 s: open, nothing of it on the disk yet
+  EXPECT_EQ(series.drops.failing, 1u) << "a file that has written nothing is not writing again";
+  series.through(19.9);  // the resumed file closed at 15 s; 10 s since the resume not yet passed
+  EXPECT_EQ(series.drops.failing, 1u);
+  series.through(20.1);
+  EXPECT_EQ(series.drops.failing, 0u) << "writing again across splits shorter than 10 s";
+  EXPECT_EQ(series.drops.count, 1u) << series.drops.last;
+}
+
+// The folder removed by hand under a running series (a clean-up): the file being written is lost
+// with it, the next split makes the folder again and the series goes on.
+TEST(RollingRecording, AFolderRemovedMidRunComesBackAtTheNextSplit) {
+  ResumingSeries series(60.0, samples(200.0, 100.0));  // samples from 100 s to 300 s
+  series.through(190.0);                               // the second file open
+  fs::remove_all(series.settings.dir);
+  series.finish();
+  const auto names = series.names();
+  ASSERT_EQ(names.size(), 2u) << "the files from 220 s on";
+  std::size_t total = 0;
+  for (const auto& name : names) total += samples_in(series.path(name));
+  EXPECT_EQ(total, 8000u) << "220 s to 300 s";
 }
 
 // Thirteen files within one second of the wall clock (a replay at full speed, restarts in a
