@@ -199,6 +199,8 @@ void RollingRecordingSink::delete_expired(double t_s) {
       app::log(app::LogPriority::Warning, "recording expiry", "cannot delete " + path + ": " + std::strerror(errno));
   }
   ::closedir(dir);
+  // What is past the keep and gone by other hands (the folder cleaned) is not looked for again.
+  std::erase_if(own_files_, [&](const auto& file) { return t_s - file.second > settings_.keep_hours * 3600.0; });
 }
 
 void RollingRecordingSink::finish(const core::Estimator& estimator, const core::SampleSource& source) {
