@@ -9,7 +9,7 @@ HEADINGD_PACKAGES=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev libcli11-dev libtomlplusplus-dev libgpiod-dev libsystemd-dev libzstd-dev zlib1g-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools cyclonedds-dev cyclonedds-tools
-  libgtest-dev libgmock-dev gdb
+  libgtest-dev libgmock-dev gdb libiio-dev
   gnuplot-nox zstd
   clang libclang-rt-14-dev clang-format clang-tidy shellcheck
   openssl systemd

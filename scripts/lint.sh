@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# clang-format (must be clean) and clang-tidy (checks in .clang-tidy) over our C++ sources; our
-# shell scripts through shellcheck (warnings and errors, following what a script sources).
+# clang-format (must be clean) over our C++ sources and the C test peers, clang-tidy (checks in
+# .clang-tidy) over the C++ ones; our shell scripts through shellcheck (warnings and errors,
+# following what a script sources).
 # Usage: bash scripts/lint.sh [--format-only | --shell-only]. clang-tidy needs a configured
 # build/default (compile_commands.json).
 set -euo pipefail
@@ -23,7 +24,7 @@ if [ "${1:-}" = "--shell-only" ]; then
   lint_shell
   exit
 fi
-mapfile -t sources < <(git ls-files '*.cpp' '*.hpp' | grep -v '^idl/')
+mapfile -t sources < <(git ls-files '*.cpp' '*.hpp' '*.c' | grep -v '^idl/')
 clang-format --dry-run --Werror "${sources[@]}"
 echo "clang-format: ${#sources[@]} files clean"
 [ "${1:-}" = "--format-only" ] && exit 0

@@ -65,7 +65,8 @@ const LayoutSpec& spec_of(FakeIioLayout layout) {
                                "380",
                                "95 190 380 760"};
   // A 20-bit big-endian gyro in 32-bit words, channels in the order z, y, x, an accelerometer
-  // channel between them and the timestamp, per-axis offsets; newer kernels' buffer0/.
+  // channel between them and the timestamp, per-axis offsets; newer kernels' buffer0/ (beside
+  // the legacy names).
   static const LayoutSpec be32{"fake32",
                                "buffer0",
                                "buffer0",
@@ -103,6 +104,21 @@ const LayoutSpec& spec_of(FakeIioLayout layout) {
       return swapped;
   }
   return st16;
+}
+
+// Kernels from 5.11 show the first buffer twice: as buffer0/ and, for the programs written before
+// it, as the legacy buffer/ and scan_elements/ (the same attributes under both names,
+// Documentation/ABI/testing/sysfs-bus-iio, "buffer/length ... Since Kernel 5.11"). Symbolic links
+// give the fake the same: a write under either name is seen under the other.
+void link_legacy_buffer_dirs(const fs::path& dir, const LayoutSpec& spec) {
+  const auto link = [&](const char* legacy, const std::string& file) {
+    fs::create_directories(dir / legacy);
+    fs::remove(dir / legacy / file);  // a tree created again over an old one
+    fs::create_symlink(fs::path("../buffer0") / file, dir / legacy / file);
+  };
+  for (const auto& c : spec.channels)
+    for (const char* suffix : {"_en", "_index", "_type"}) link("scan_elements", std::string(c.name) + suffix);
+  for (const char* control : {"enable", "length", "watermark"}) link("buffer", control);
 }
 
 }  // namespace
@@ -160,6 +176,7 @@ void FakeIioTree::create() {
   put(dir / spec.buffer_dir / "length", "0");
   put(dir / spec.buffer_dir / "watermark", "1");
   put(dir / "trigger" / "current_trigger", "");
+  if (std::string(spec.scan_dir) == "buffer0") link_legacy_buffer_dirs(dir, spec);
   // of_node/compatible: NUL-terminated strings, no newline.
   const std::string compatible = std::string("st,") + spec.name + "-gyro" + '\0' + "headingd,fake-gyro" + '\0';
   fs::create_directories(dir / "of_node");
