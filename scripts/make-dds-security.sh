@@ -27,7 +27,7 @@ cat >governance.xml <<'XML'
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_governance.xsd">
   <domain_access_rules>
     <domain_rule>
-      <domains><id_range><min>0</min><max>232</max></id_range></domains>
+      <domains><id_range><min>0</min><max>230</max></id_range></domains>
       <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
       <enable_join_access_control>true</enable_join_access_control>
       <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
@@ -55,7 +55,7 @@ grant() {  # name, publish topics, subscribe topics (Fast DDS compares subjects 
       <subject_name>CN=$1,O=$org</subject_name>
       <validity><not_before>2020-01-01T00:00:00</not_before><not_after>2045-01-01T00:00:00</not_after></validity>
       <allow_rule>
-        <domains><id_range><min>0</min><max>232</max></id_range></domains>
+        <domains><id_range><min>0</min><max>230</max></id_range></domains>
         <publish><topics>$2</topics></publish>
         <subscribe><topics>$3</topics></subscribe>
       </allow_rule>

@@ -283,7 +283,12 @@ static dds_entity_t command_writer(dds_entity_t participant) {
   dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
   const dds_entity_t writer = dds_create_writer(participant, topic, qos, NULL);
   dds_delete_qos(qos);
-  if (topic < 0 || writer < 0) return -1;
+  if (topic < 0 || writer < 0) {
+    /* Under DDS Security, access control refuses here what the permissions do not grant. */
+    fprintf(stderr, "ros_peer: headingd/command %s: %s\n", topic < 0 ? "topic" : "writer",
+            dds_strretcode(topic < 0 ? topic : writer));
+    return -1;
+  }
   dds_publication_matched_status_t matched = {0};
   const double wait_until = mono_s() + 15.0;
   while (matched.current_count == 0 && mono_s() < wait_until) {
@@ -332,7 +337,10 @@ static int bad_commands(dds_domainid_t domain, long n, double rate) {
 /* One set-heading fix with its variance (rad^2; 0 = exact), as a vehicle's localisation sends it. */
 static int set_heading(dds_domainid_t domain, double heading_rad, double variance_rad2) {
   const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
-  if (participant < 0) return 1;
+  if (participant < 0) {
+    fprintf(stderr, "ros_peer: create_participant: %s\n", dds_strretcode(-participant));
+    return 1;
+  }
   const dds_entity_t writer = command_writer(participant);
   if (writer < 0 || write_set_heading(writer, heading_rad, variance_rad2)) return 1;
   dds_sleepfor(DDS_MSECS(500)); /* let reliable delivery finish */
