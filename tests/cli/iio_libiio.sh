@@ -10,6 +10,7 @@
 # shellcheck source=cli_common.sh
 source "$(dirname "$0")/cli_common.sh"
 feeder="$2" reader="$3"
+[ "$(id -u)" -eq 0 ] || { echo "skipped: a mount namespace needs root"; exit 77; }
 feeder_pid=""
 trap '[ -n "$feeder_pid" ] && kill "$feeder_pid" 2>/dev/null; [ -n "${KEEP:-}" ] || rm -rf "$dir"' EXIT
 compare_rows=3000
@@ -43,7 +44,7 @@ TOML
 
   start_feeder "$root" "$layout"
   # The paths go in as arguments, never into the command's text.
-  unshare --mount --propagation private -- sh -c \
+  timeout 60 unshare --mount --propagation private -- sh -c \
     'mount --bind "$1/sys" /sys && mount --bind "$1/dev" /dev && exec "$2" "$3" "$4"' \
     sh "$root" "$reader" "$name" "$compare_rows" >"$dir/$layout.libiio.csv" 2>"$dir/$layout.libiio.log" ||
     fail "$layout: libiio's reader: $(cat "$dir/$layout.libiio.log")"
