@@ -13,7 +13,7 @@ fi
 # Each from its own folder, as `source "$(dirname "$0")/…"` finds its file there.
 lint_shell() {
   local scripts bad=0 f
-  mapfile -t scripts < <(git ls-files '*.sh' .ci/run)
+  mapfile -t scripts < <(git ls-files '*.sh' .ci/run packaging/postinst packaging/prerm packaging/postrm packaging/iio-permissions)
   for f in "${scripts[@]}"; do
     (cd "$(dirname "$f")" && shellcheck -S warning -x "$(basename "$f")") || bad=1
   done
