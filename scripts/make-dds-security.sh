@@ -4,9 +4,16 @@
 # not command), and governance and permissions documents signed by the CA (S/MIME), as Fast DDS's
 # builtin PKI-DH, Access-Permissions and AES-GCM-GMAC plugins want them. For tests and as a
 # template: a fleet's real PKI belongs to its operator.
-# Usage: scripts/make-dds-security.sh DIR
+# Usage: scripts/make-dds-security.sh [--ros2-names] DIR
+#   --ros2-names: subjects as ROS 2's sros2 names enclaves (CN=/headingd) instead of
+#   CN=headingd,O=headingd test (which decides who begins a handshake: scripts/dds-security-order.sh).
 set -euo pipefail
-dir="${1:?usage: make-dds-security.sh DIR}"
+ros2_names=false
+if [ "${1:-}" = "--ros2-names" ]; then
+  ros2_names=true
+  shift
+fi
+dir="${1:?usage: make-dds-security.sh [--ros2-names] DIR}"
 mkdir -p "$dir"
 cd "$dir"
 days=3650
@@ -17,7 +24,8 @@ openssl req -new -x509 -sha256 -key ca.key -out ca.pem -days "$days" -subj "/O=$
 
 for who in headingd navigation observer; do
   openssl ecparam -name prime256v1 -genkey -noout -out "$who.key" 2>/dev/null
-  openssl req -new -sha256 -key "$who.key" -out "$who.csr" -subj "/O=$org/CN=$who" 2>/dev/null
+  if $ros2_names; then subject="/CN=\\/$who"; else subject="/O=$org/CN=$who"; fi
+  openssl req -new -sha256 -key "$who.key" -out "$who.csr" -subj "$subject" 2>/dev/null
   openssl x509 -req -sha256 -in "$who.csr" -CA ca.pem -CAkey ca.key -CAcreateserial -out "$who.pem" -days "$days" 2>/dev/null
   rm -f "$who.csr"
 done
@@ -52,7 +60,7 @@ XML
 grant() {  # name, publish topics, subscribe topics (Fast DDS compares subjects in RFC 2253 order: CN first)
   cat <<XML
     <grant name="$1">
-      <subject_name>CN=$1,O=$org</subject_name>
+      <subject_name>$(if $ros2_names; then echo "CN=/$1"; else echo "CN=$1,O=$org"; fi)</subject_name>
       <validity><not_before>2020-01-01T00:00:00</not_before><not_after>2045-01-01T00:00:00</not_after></validity>
       <allow_rule>
         <domains><id_range><min>0</min><max>230</max></id_range></domains>
