@@ -30,6 +30,8 @@ for who in headingd navigation observer; do
   rm -f "$who.csr"
 done
 
+# Domains 0-230 in both documents: Cyclone DDS 0.10 refuses a document naming a higher id (its
+# parser's bound), so a peer on Cyclone could not start with 232 (tests/cli/ros2_security.sh).
 cat >governance.xml <<'XML'
 <?xml version="1.0" encoding="UTF-8"?>
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_governance.xsd">
