@@ -88,12 +88,12 @@ void linger(double seconds) {
 
 int set_rate_and_speed(double output_rate_hz, const std::string& speed, JobOptions& job) {
   if (const auto problem = pipeline::check_output_rate(output_rate_hz)) {
-    std::fprintf(stderr, "headingd: %s\n", problem->c_str());
+    report(LogPriority::Error, *problem);
     return kExitUsage;
   }
   const auto factor = pipeline::parse_speed(speed);
   if (!factor) {
-    std::fprintf(stderr, "headingd: --speed: '%s' is not max, realtime or a positive factor\n", speed.c_str());
+    report(LogPriority::Error, "--speed: '" + speed + "' is not max, realtime or a positive factor");
     return kExitUsage;
   }
   job.output_rate_hz = output_rate_hz;
@@ -124,7 +124,7 @@ std::optional<std::string> clobbered_file(const JobOptions& options) {
 
 int run_job(core::SampleSource& source, const JobOptions& options) {
   if (const auto clash = clobbered_file(options)) {
-    std::fprintf(stderr, "headingd: %s\n", clash->c_str());
+    report(LogPriority::Error, *clash);
     return kExitUsage;
   }
   // Start-up, in order. Each part is an object declared after the ones it needs, so leaving
@@ -141,13 +141,14 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
       if (dds.ros.hardware_id == RosSettings{}.hardware_id) dds.ros.hardware_id = source.describe();
       node = std::make_unique<DdsNode>(dds);
     } catch (const std::exception& error) {
-      std::fprintf(stderr, "headingd: DDS: %s\n", error.what());
+      report(LogPriority::Error, std::string("DDS: ") + error.what());
       return kExitSoftware;
     }
     if (options.wait_subscribers_s > 0 && !node->wait_for_subscribers(options.wait_subscribers_s, &stop_flag()) &&
         !stop_requested()) {
-      std::fprintf(stderr, "headingd: no orientation subscriber within %.1f s; publishing anyway\n",
-                   options.wait_subscribers_s);
+      char waited[32];
+      std::snprintf(waited, sizeof waited, "%.1f", options.wait_subscribers_s);
+      report(LogPriority::Warning, std::string("no orientation subscriber within ") + waited + " s; publishing anyway");
     }
   }
 
@@ -182,7 +183,7 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
                                    : static_cast<pipeline::Sink&>(*estimates));
     }
   } catch (const OutputError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
+    report(LogPriority::Error, std::string(error.what()));
     return kExitCantCreate;
   }
   std::optional<pipeline::DdsSink> dds;
@@ -207,13 +208,12 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   // (A refusal was logged where it was decided.)
-  if (!outcome.error.empty() && outcome.ending != pipeline::Ending::Refused)
-    std::fprintf(stderr, "headingd: %s\n", outcome.error.c_str());
+  if (!outcome.error.empty() && outcome.ending != pipeline::Ending::Refused) report(LogPriority::Error, outcome.error);
   if (outcome.ending == pipeline::Ending::BadInput)
-    std::fprintf(stderr, "headingd: stopped there; estimates up to the previous sample are kept\n");
+    report(LogPriority::Error, "stopped there; estimates up to the previous sample are kept");
   if (drops.count > 0)
-    std::fprintf(stderr, "headingd: %llu file output(s) dropped, the run went on publishing; last: %s\n",
-                 static_cast<unsigned long long>(drops.count), drops.last.c_str());
+    report(LogPriority::Warning,
+           std::to_string(drops.count) + " file output(s) dropped, the run went on publishing; last: " + drops.last);
   if (node) {
     // Late subscribers still get the latest GyroBias and Status (transient-local) meanwhile.
     linger(options.linger_s);
@@ -254,7 +254,7 @@ int run_job(core::SampleSource& source, const JobOptions& options) {
     print_summary(summary, source, pipeline.estimator());
   }
   if (outcome.estimator_fault && exit_code(outcome.ending) == kExitOk) {
-    std::fprintf(stderr, "headingd: the estimator faulted (non-finite state); the heading after it is not valid\n");
+    report(LogPriority::Error, "the estimator faulted (non-finite state); the heading after it is not valid");
     return kExitSoftware;
   }
   return exit_code(outcome.ending);

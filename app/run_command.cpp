@@ -51,7 +51,7 @@ std::unique_ptr<Sensor> open_live(const SensorOptions& sensor) {
     };
     return open_sensor(sensor, hooks);
   } catch (const std::exception& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
+    report(LogPriority::Error, std::string(error.what()));
     return nullptr;
   }
 }
@@ -67,7 +67,7 @@ int load_run_config(const RunOptions& options, Config& config) {
   try {
     if (options.config_path) config = load_config(*options.config_path);
   } catch (const ConfigError& error) {
-    std::fprintf(stderr, "headingd: %s\n", error.what());
+    report(LogPriority::Error, std::string(error.what()));
     return kExitConfig;
   }
   return 0;
@@ -77,7 +77,7 @@ int load_run_config(const RunOptions& options, Config& config) {
 int open_configured_sensor(const Config& config, const RunOptions& options, std::unique_ptr<Sensor>& sensor) {
   const SensorOptions sensor_options = merged_sensor(config.sensor, options);
   if (const auto unknown = unknown_sensor_kind(sensor_options.kind); !unknown.empty()) {
-    std::fprintf(stderr, "headingd: %s: %s\n", options.config_path.value_or("").c_str(), unknown.c_str());
+    report(LogPriority::Error, options.config_path.value_or("") + ": " + unknown);
     return kExitConfig;
   }
   sensor = open_live(sensor_options);
@@ -102,12 +102,11 @@ int run_live(const RunOptions& options) {
   job.rolling.split_hours = options.record_split_hours.value_or(config.record_split_hours);
   job.rolling.keep_hours = options.record_keep_hours.value_or(config.record_keep_hours);
   if (job.record_path && !job.rolling.dir.empty()) {
-    std::fprintf(stderr,
-                 "headingd: --record and a rolling recording (--record-dir, or [record] dir) together: choose one\n");
+    report(LogPriority::Error, "--record and a rolling recording (--record-dir, or [record] dir) together: choose one");
     return kExitUsage;
   }
   if (options.state_path && options.state_path->empty()) {
-    std::fprintf(stderr, "headingd: --state needs a file name (to run without saved state, give none)\n");
+    report(LogPriority::Error, "--state needs a file name (to run without saved state, give none)");
     return kExitUsage;
   }
   job.state_path = options.state_path ? options.state_path : config.state_path;

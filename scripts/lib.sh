@@ -12,7 +12,7 @@ HEADINGD_PACKAGES=(
   libgtest-dev libgmock-dev gdb libiio-dev
   gnuplot-nox zstd
   clang libclang-rt-14-dev clang-format clang-tidy shellcheck
-  openssl systemd lintian
+  openssl systemd systemd-container lintian
 )
 
 # Installs the named Debian packages that are not installed yet; does nothing when all are.

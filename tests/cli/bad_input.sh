@@ -146,4 +146,18 @@ else
   echo "ok   kept-before-error: header + 1 row written before the bad line"
 fi
 
+# The priority prefix journald reads ("<3>" = err) only where stderr is the journal's stream, which
+# systemd names in $JOURNAL_STREAM (device:inode); on a terminal or in a file, none.
+printf '[estimator]\nsegment_s = -3\n' >"$dir/broken.toml"
+"$headingd" run -c "$dir/broken.toml" --no-dds 2>"$dir/plain.err"
+: >"$dir/journal.err"
+JOURNAL_STREAM="$(stat -c '%d:%i' "$dir/journal.err")" "$headingd" run -c "$dir/broken.toml" --no-dds 2>>"$dir/journal.err"
+JOURNAL_STREAM="$(stat -c '%d:%i' "$dir/plain.err")" "$headingd" run -c "$dir/broken.toml" --no-dds 2>"$dir/other.err"
+if grep -q '^headingd: .*broken.toml' "$dir/plain.err" && grep -q '^<3>headingd: .*broken.toml' "$dir/journal.err" &&
+  grep -q '^headingd: ' "$dir/other.err"; then
+  echo "ok   journal-priority: <3> where stderr is the stream \$JOURNAL_STREAM names, none elsewhere"
+else
+  echo "FAIL journal-priority: $(cat "$dir/plain.err" "$dir/journal.err" "$dir/other.err")"; failures=$((failures + 1))
+fi
+
 [ "$failures" -eq 0 ]

@@ -1,0 +1,179 @@
+#!/usr/bin/env bash
+# The package's unit under a real systemd — Debian 12's, as PID 1 of a container that
+# systemd-nspawn boots from this machine's own root (a throw-away overlay, a network of its own,
+# only loopback) — rather than under our own notify listener:
+#  A. installed with dpkg and started with the shipped configuration on a machine without the
+#     sensor: the error reaches the journal at priority err, the unit tries again every 5 s
+#     and starts by itself once the sensor is there;
+#  B. a configuration error: no restart (a restart cannot mend it), the error at priority err;
+#  C. the simulated chip (a drop-in replaces ExecStart, every other setting of the unit kept):
+#     `systemctl start` returns once READY=1 came, STATUS= and the watchdog pings reach systemd,
+#     a Cyclone DDS ROS 2 peer in the container's network reads Imu, Orientation and
+#     /diagnostics through the unit's sandbox (system-call filter, address families, no
+#     capabilities), `systemctl reload` reloads, `systemctl stop` ends it with status 0 and the
+#     state and a rolling recording are written as user headingd under the state directory; a
+#     second start restores the state;
+#  D. a sensor that dies while running: the watchdog kills the daemon and systemd restarts it.
+# Needs root and systemd-nspawn (scripts/lib.sh installs systemd-container); exits 77 otherwise.
+# Arguments: BUILD_DIR SOURCE_DIR ROS_PEER
+set -uo pipefail
+build="$1"
+root="$2"
+peer="$3"
+[ "$(id -u)" -eq 0 ] || { echo "skipped: needs root"; exit 77; }
+command -v systemd-nspawn >/dev/null || { echo "skipped: no systemd-nspawn (package systemd-container)"; exit 77; }
+# The bind mount of / below lives and dies with a mount namespace of this test's own.
+if [ -z "${HEADINGD_OWN_MOUNTS:-}" ]; then
+  exec env HEADINGD_OWN_MOUNTS=1 unshare --mount --propagation private bash "$0" "$@"
+fi
+domain=71
+dir="$(mktemp -d)"
+nspawn_pid=
+cleanup() {
+  if [ -n "$nspawn_pid" ]; then
+    kill "$nspawn_pid" 2>/dev/null # nspawn asks the container's systemd to power off
+    for _ in $(seq 50); do kill -0 "$nspawn_pid" 2>/dev/null || break; sleep 0.2; done
+    kill -9 "$nspawn_pid" 2>/dev/null
+  fi
+  umount "$dir/root" 2>/dev/null
+  if [ -n "${KEEP:-}" ]; then echo "kept $dir"; else rm -rf "$dir"; fi
+}
+trap cleanup EXIT
+fail() {
+  echo "FAIL: $*"
+  [ -n "${leader:-}" ] && nsenter -t "$leader" -a journalctl -u headingd --no-pager -n 15 -o cat 2>/dev/null
+  exit 1
+}
+mkdir -p "$dir/root" "$dir/share"
+(cd "$build" && cpack -G DEB -B "$dir/deb" >/dev/null 2>&1) || fail "cpack"
+cp "$dir"/deb/headingd_*.deb "$dir/share/headingd.deb" || fail "no package built"
+cp "$root/config/fastdds-loopback.xml" "$dir/share/" || fail "no loopback profile"
+mount --bind / "$dir/root" || fail "bind mount of /"
+
+# Boot. The overlay keeps every write in memory; --private-network leaves only loopback.
+systemd-nspawn --quiet --register=no --keep-unit --link-journal=no --volatile=overlay --private-network \
+  --console=passive -D "$dir/root" --bind-ro="$dir/share:/mnt/headingd-check" --boot >"$dir/boot.log" 2>&1 &
+nspawn_pid=$!
+leader=
+for _ in $(seq 100); do
+  leader=$(pgrep -P "$nspawn_pid" | head -1)
+  [ -n "$leader" ] && nsenter -t "$leader" -a true 2>/dev/null && break
+  leader=
+  sleep 0.2
+done
+[ -n "$leader" ] || fail "the container did not start: $(tail -5 "$dir/boot.log")"
+inside() { nsenter -t "$leader" -a "$@"; }
+state=$(inside timeout 90 systemctl is-system-running --wait 2>&1)
+case "$state" in running | degraded) ;; *) fail "the container's systemd did not finish booting: $state" ;; esac
+echo "ok: booted systemd $(inside systemctl --version | sed -n '1s/systemd \([0-9]*\).*/\1/p') as PID 1 of a container ($state)"
+
+inside dpkg -i /mnt/headingd-check/headingd.deb >"$dir/dpkg.log" 2>&1 || fail "dpkg -i in the container: $(tail -3 "$dir/dpkg.log")"
+show() { inside systemctl show headingd -p "$1" --value; }
+# wait_for PROPERTY VALUE SECONDS
+wait_for() {
+  for _ in $(seq $(($3 * 5))); do [ "$(show "$1")" = "$2" ] && return 0; sleep 0.2; done
+  return 1
+}
+journal_since() { inside journalctl -u headingd --no-pager -o cat --since "@$1" "${@:2}"; }
+# A line at exactly priority PRIORITY (a number, or "all") since a time, matching a pattern; waits
+# up to 5 s for journald, which takes messages from the daemon and from PID 1 in its own time.
+said_at() {
+  local priority=(-p "$2..$2")
+  [ "$2" = all ] && priority=()
+  for _ in $(seq 25); do
+    journal_since "$1" "${priority[@]}" | grep -q -- "$3" && return 0
+    sleep 0.2
+  done
+  return 1
+}
+
+dropin() { # the unit's own settings, its ExecStart replaced
+  inside mkdir -p /etc/systemd/system/headingd.service.d
+  printf '[Service]\nExecStart=\nExecStart=/usr/bin/headingd run --config %s %s\n' "$1" "${2:-}" |
+    inside tee /etc/systemd/system/headingd.service.d/check.conf >/dev/null
+  inside systemctl daemon-reload
+}
+
+# The shipped configuration with a domain, the loopback profile and a rolling recording of its own.
+inside cp /etc/headingd/headingd.toml /etc/headingd/check.toml
+inside sed -i -e "s|^domain_id = 0\$|domain_id = $domain\nprofiles_xml = \"/etc/headingd/fastdds-loopback.xml\"|" \
+  -e 's|^dir = ""$|dir = "/var/lib/headingd/recordings"|' /etc/headingd/check.toml
+inside grep -q "^domain_id = $domain\$" /etc/headingd/check.toml || fail "shipped config has no 'domain_id = 0' line"
+inside grep -q '^dir = "/var/lib/headingd/recordings"$' /etc/headingd/check.toml || fail "shipped config has no '[record] dir' line"
+inside install -m 644 /mnt/headingd-check/fastdds-loopback.xml /etc/headingd/fastdds-loopback.xml
+
+# ---- A. the shipped configuration, no sensor ------------------------------------------------
+t0=$(inside date +%s)
+inside systemctl start headingd 2>/dev/null && fail "A: started without a sensor"
+sleep 12
+restarts=$(show NRestarts)
+[ "$(show ActiveState)" = activating ] && [ "$restarts" -ge 1 ] && [ "$restarts" -le 3 ] ||
+  fail "A: after 12 s without a sensor: $(show ActiveState)/$(show SubState) ($(show Result)), $restarts restarts (want 1-3, still trying)"
+said_at "$t0" 3 "cannot open I2C adapter /dev/i2c-1" || fail "A: the missing adapter is not in the journal at priority err"
+echo "ok: without a sensor: $restarts restarts in 12 s, still trying; the journal at err says:"
+journal_since "$t0" -p err..err | grep -m1 'i2c' | sed 's/^/    /'
+# The sensor "appears": the unit takes it at its next try, without anyone starting it again.
+dropin /etc/headingd/check.toml "--simulated-chip still --sim-realtime"
+wait_for ActiveState active 15 || fail "A: the sensor there, but the unit is $(show ActiveState)/$(show SubState)"
+echo "ok: once the sensor was there the next try started it ($(show NRestarts) restarts in all)"
+inside systemctl stop headingd
+
+# ---- B. a configuration error -----------------------------------------------------------------
+printf '[estimator]\nsegment_s = -3\n' | inside tee /etc/headingd/broken.toml >/dev/null
+dropin /etc/headingd/broken.toml
+t0=$(inside date +%s)
+inside systemctl start headingd 2>/dev/null && fail "B: started with a broken configuration"
+sleep 5
+[ "$(show NRestarts)" = 0 ] && [ "$(show ActiveState)" = failed ] && [ "$(show ExecMainStatus)" = 78 ] ||
+  fail "B: $(show NRestarts) restarts, $(show ActiveState), status $(show ExecMainStatus) (want 0, failed, 78)"
+said_at "$t0" 3 "broken.toml" || fail "B: the configuration error is not in the journal at priority err"
+echo "ok: a broken configuration: exit 78, no restart; at err: $(journal_since "$t0" -p err..err | grep -m1 broken.toml)"
+inside systemctl reset-failed headingd
+
+# ---- C. the simulated chip under the unit's sandbox --------------------------------------------
+dropin /etc/headingd/check.toml "--simulated-chip still --sim-realtime"
+t0=$(inside date +%s)
+timeout 60 nsenter -t "$leader" -a systemctl start headingd || fail "C: systemctl start: $(show Result)"
+[ "$(show ActiveState)" = active ] || fail "C: $(show ActiveState) after start"
+export CYCLONEDDS_URI="file://$root/tests/interop/cyclone.xml"
+nsenter -t "$leader" -n "$peer" listen $domain 12 >"$dir/peer.out" 2>"$dir/peer.err" || fail "peer: $(tail -3 "$dir/peer.err")"
+n_imu=$(grep -c '^imu_sensor_data' "$dir/peer.out")
+n_orientation=$(grep -c '^orientation' "$dir/peer.out")
+n_diagnostics=$(grep -c '^diagnostic' "$dir/peer.out")
+[ "$n_imu" -ge 300 ] && [ "$n_orientation" -ge 300 ] && [ "$n_diagnostics" -ge 5 ] ||
+  fail "C: the peer read $n_imu Imu, $n_orientation Orientation, $n_diagnostics /diagnostics messages"
+status=$(show StatusText)
+grep -q '^heading .* samples, 0 bus errors$' <<<"$status" || fail "C: STATUS= '$status'"
+watchdog=$(show WatchdogTimestampMonotonic)
+[ "$watchdog" -gt 0 ] 2>/dev/null || fail "C: no watchdog ping reached systemd"
+sleep 3
+[ "$(show WatchdogTimestampMonotonic)" -gt "$watchdog" ] || fail "C: the watchdog pings stopped"
+[ "$(show NRestarts)" = 0 ] || fail "C: restarted $(show NRestarts) times"
+echo "ok: active after READY=1; a Cyclone peer read $n_imu Imu, $n_orientation Orientation, $n_diagnostics /diagnostics messages; STATUS=\"$status\"; watchdog pinged"
+inside systemctl reload headingd || fail "C: systemctl reload"
+sleep 1
+said_at "$t0" 5 "configuration reloaded from /etc/headingd/check.toml" || fail "C: no reload in the journal at notice"
+inside systemctl stop headingd
+[ "$(show Result)" = success ] && [ "$(show ExecMainStatus)" = 0 ] || fail "C: stop: $(show Result), status $(show ExecMainStatus)"
+owner=$(inside stat -c '%U %a' /var/lib/headingd/state 2>&1) || fail "C: no state file: $owner"
+[ "$owner" = "headingd 600" ] || fail "C: state file is '$owner', want 'headingd 600'"
+recording=$(inside find /var/lib/headingd/recordings -name '*.csv.zst' -user headingd -size +0 | head -1)
+[ -n "$recording" ] || fail "C: no rolling recording under /var/lib/headingd/recordings: $(inside ls -lR /var/lib/headingd)"
+inside zstd -t -q "$recording" || fail "C: $recording is damaged"
+echo "ok: reloaded; stopped with status 0; state (mode 600) and $recording written as headingd"
+t0=$(inside date +%s)
+inside systemctl start headingd || fail "C: second start"
+said_at "$t0" 6 "bias and heading restored from /var/lib/headingd/state" || fail "C: the second start did not restore the state"
+inside systemctl stop headingd
+echo "ok: the second start restored the saved bias and heading"
+
+# ---- D. the sensor dies: the watchdog ---------------------------------------------------------
+dropin /etc/headingd/check.toml "--simulated-chip still --sim-realtime --sim-dead-after 3"
+t0=$(inside date +%s)
+inside systemctl start headingd || fail "D: start"
+for _ in $(seq 100); do [ "$(show NRestarts)" -ge 1 ] && break; sleep 0.2; done
+[ "$(show NRestarts)" -ge 1 ] || fail "D: no restart 20 s after the sensor died"
+said_at "$t0" all 'Watchdog timeout' || fail "D: restarted, but not by the watchdog"
+said_at "$t0" 4 "sensor dead" || fail "D: the dead sensor is not in the journal at priority warning"
+inside systemctl stop headingd
+echo "ok: a dead sensor: the watchdog killed and systemd restarted the daemon ($(journal_since "$t0" | grep -m1 'Watchdog timeout'))"
