@@ -204,6 +204,7 @@ Diagnostics Estimator::diagnostics() const {
 LearnedState Estimator::learned() const {
   // After a fault only what was learned while healthy may be saved; nor is a state that a
   // restart would refuse (a bias beyond any gyro's range after a wild temperature model).
+  if (samples_ == 0 && restored_) return *restored_;
   if (fault_) return good_state_;
   LearnedState now = savable(learned_now());
   return implausible(now) ? good_state_ : now;
@@ -258,6 +259,12 @@ void Estimator::restore(const LearnedState& state, bool with_heading) {
       a->restore_temperature_model(static_cast<int>(axis), state.temperature_sums[axis],
                                    state.temperature_points[axis]);
     a->carry_restored_bias(state.temp_c, state.bias_measured_temp_c);  // after the models it may use
+  }
+  restored_ = state;
+  if (!with_heading) {
+    restored_->heading_deg = std::numeric_limits<double>::quiet_NaN();
+    restored_->heading_variance_deg2 = std::numeric_limits<double>::quiet_NaN();
+    restored_->heading_fix_offset_deg = 0.0;
   }
 }
 

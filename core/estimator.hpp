@@ -52,7 +52,8 @@ class Estimator {
 
   // Everything a sink may want to report, as one value.
   Diagnostics diagnostics() const;
-  // What a restart should start from (the state file), and taking it back.
+  // What a restart should start from (the state file), and taking it back. Before the first
+  // sample: what was restored, as it was restored (or nothing learned, if nothing was).
   LearnedState learned() const;
   // `with_heading`: also the heading saved with it (a vehicle that was not moved meanwhile).
   // Throws std::invalid_argument, restoring nothing, for a state with non-finite or absurd values.
@@ -86,6 +87,9 @@ class Estimator {
   Eigen::Quaterniond good_attitude_ = Eigen::Quaterniond::Identity();
   Vec3 good_bias_dps_ = Vec3::Zero();
   LearnedState good_state_;  // at the last segment closed while healthy: what a fault saves
+  // What restore() was given: before the first sample it is all there is to hand on (the
+  // estimates describe no sample yet; saving them wrote a zero bias over the state file).
+  std::optional<LearnedState> restored_;
   std::uint64_t heading_fixes_ = 0;
   double heading_fix_offset_deg_ = 0.0;
 };

@@ -18,6 +18,17 @@ constexpr const char* kUdevHint =
     "give the service's group access with the udev rule headingd installs (config/99-headingd.rules: group iio "
     "on /dev/iio:device* and the device's sysfs attributes), or run as root";
 
+// A read-only /sys is no permission problem: under systemd it is the unit's ProtectKernelTunables=,
+// which the packaged drop-in turns off for an IIO gyro (found under a real systemd: service.systemd_boot).
+constexpr const char* kReadOnlyHint =
+    "/sys is read-only here: under systemd, install the drop-in /usr/share/headingd/headingd-iio.conf as "
+    "/etc/systemd/system/headingd.service.d/iio.conf and run systemctl daemon-reload";
+
+// "<root>/sys/...", with no doubled slash for the usual root "/".
+std::string under(const std::string& root, const std::string& path) {
+  return (!root.empty() && root.back() == '/' ? root.substr(0, root.size() - 1) : root) + path;
+}
+
 bool exists(const std::string& path) {
   struct stat info {};
   return ::stat(path.c_str(), &info) == 0;
@@ -46,7 +57,8 @@ void write_attribute(const std::string& path, const std::string& value) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {
     const int error = errno;
-    if (error == EACCES || error == EPERM || error == EROFS)
+    if (error == EROFS) throw IioError("cannot write " + path + ": " + std::strerror(error) + "; " + kReadOnlyHint);
+    if (error == EACCES || error == EPERM)
       throw IioError("cannot write " + path + ": " + std::strerror(error) + "; " + kUdevHint);
     throw IioError("cannot open " + path + " for writing: " + std::strerror(error));
   }
@@ -197,7 +209,7 @@ std::optional<Eigen::Matrix3d> parse_mount_matrix(const std::string& text) {
 }
 
 std::string find_iio_device(const IioSettings& settings) {
-  const std::string devices = settings.root + "/sys/bus/iio/devices";
+  const std::string devices = under(settings.root, "/sys/bus/iio/devices");
   std::vector<std::string> seen, candidates;
   for (const auto& e : entries(devices)) {
     if (e.rfind("iio:device", 0) != 0) continue;
@@ -245,7 +257,7 @@ IioBinding bind_iio_device(const IioSettings& settings) {
   b.id = b.sysfs_dir.substr(b.sysfs_dir.rfind('/') + 1);
   b.name = read_attribute(b.sysfs_dir + "/name").value_or(b.id);
   const std::string who = b.id + " (" + b.name + ")";
-  b.dev_node = settings.root + "/dev/" + b.id;
+  b.dev_node = under(settings.root, "/dev/" + b.id);
 
   // Newer kernels (5.11+) put the scan elements and buffer controls in buffer0/; older ones use
   // scan_elements/ and buffer/.
@@ -321,7 +333,7 @@ IioBinding bind_iio_device(const IioSettings& settings) {
   if (!frequency.empty()) b.sampling_frequency_hz = number_of(required(frequency, "sampling frequency"), frequency);
 
   if (exists(b.sysfs_dir + "/trigger/current_trigger")) {
-    const std::string devices = settings.root + "/sys/bus/iio/devices";
+    const std::string devices = under(settings.root, "/sys/bus/iio/devices");
     b.trigger = pick_trigger(settings, devices, b.sysfs_dir, b.name);
     // An hrtimer trigger has its own sampling_frequency: it must tick at the device's rate.
     for (const auto& e : entries(devices))

@@ -23,7 +23,9 @@ app::SavedState to_saved(const core::LearnedState& learned) {
 StateSink::StateSink(std::string path, double interval_s) : path_(std::move(path)), interval_(interval_s) {}
 
 void StateSink::save(const core::Estimator& estimator) {
-  if (estimator.in_startup()) return;
+  // Nothing learned yet: the file stays as it was found (a stop or a bad recording before the
+  // first sample once wrote a zero bias over it; service.systemd_boot found it).
+  if (estimator.samples() == 0 || estimator.in_startup()) return;
   try {
     app::save_state(path_, to_saved(estimator.learned()));
   } catch (const app::StateError& error) {

@@ -1208,3 +1208,34 @@ TEST(AutoEstimator, ARestoredBiasLeavesRoomForWhatTheTimeDownMoved) {
   }
   EXPECT_GT(std::abs(after(0.05, false)), 3.0) << "what the widening mends";
 }
+
+// Before its first sample an estimator has learned nothing: what it hands on (the state file at a
+// stop, a configuration reload) is what it was restored from, heading included. It handed on its
+// empty estimate instead: a zero bias with a 0.01 dps sigma and no heading, written over the
+// state file by a stop in the first tens of milliseconds (service.systemd_boot found it).
+TEST(Estimator, BeforeTheFirstSampleHandsOnWhatItWasRestoredFrom) {
+  LearnedState saved;
+  saved.bias_dps = Vec3(0.40, -0.26, -0.46);
+  saved.bias_sigma_dps = Vec3(0.004, 0.004, 0.003);
+  saved.heading_deg = 87.5;
+  saved.heading_variance_deg2 = 0.25;
+  saved.temp_c = saved.bias_measured_temp_c = 22.0;
+  Estimator restarted;
+  restarted.restore_after_restart(saved);
+  const LearnedState handed = restarted.learned();
+  EXPECT_TRUE(handed.bias_dps.isApprox(saved.bias_dps)) << handed.bias_dps.transpose();
+  EXPECT_TRUE((handed.bias_sigma_dps.array() >= saved.bias_sigma_dps.array()).all());  // widened, never tighter
+  EXPECT_DOUBLE_EQ(handed.heading_deg, 87.5);
+  EXPECT_DOUBLE_EQ(handed.temp_c, 22.0);
+  Estimator without_heading;
+  without_heading.restore_after_restart(saved, false);
+  EXPECT_TRUE(std::isnan(without_heading.learned().heading_deg));
+  EXPECT_TRUE(without_heading.learned().bias_dps.isApprox(saved.bias_dps));
+  // Once a sample came, it is the estimates that speak.
+  Sample first;
+  first.temp_c = 22.0;
+  first.rate_dps = saved.bias_dps;
+  restarted.update(first);
+  EXPECT_NEAR(restarted.learned().bias_dps.z(), -0.46, 0.01);
+  EXPECT_NEAR(restarted.learned().heading_deg, 87.5, 0.01);
+}

@@ -101,4 +101,16 @@ grep -q "cannot write /dev/full" "$dir/output-error/stderr" || fail "output-erro
 run_case sensor-death 74 0 run --simulated-chip still --sim-dead-after 20
 grep -q "L3GD20H: no sample for 30 s, every recovery failed" "$dir/sensor-death/stderr" ||
   fail "sensor-death: $(tail -3 "$dir/sensor-death/stderr")"
+# A run that read no sample learned nothing: its state file stays byte for byte as it was. (A
+# header-only recording, or a stop before the chip's first sample, once wrote a zero bias with a
+# tight sigma and no heading over it; the next start trusted that and rejected every stop.)
+sed -n '/^[0-9]/q;p' "$recording" >"$dir/no-samples.csv"
+cp "$dir/sigterm/state" "$dir/no-samples.state"
+"$headingd" run --recording "$dir/no-samples.csv" --state "$dir/no-samples.state" --no-dds --speed max \
+  2>"$dir/no-samples.err"
+rc=$?
+[ "$rc" -eq 65 ] || fail "no-samples: exit $rc: $(cat "$dir/no-samples.err")"
+cmp -s "$dir/sigterm/state" "$dir/no-samples.state" ||
+  fail "no-samples: the state file changed: $(diff "$dir/sigterm/state" "$dir/no-samples.state" | head -4)"
+echo "ok: a run without a sample leaves the state file as it was"
 echo "ok: every exit path saves the state, says STOPPING and cleans /dev/shm"

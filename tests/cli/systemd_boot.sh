@@ -13,13 +13,18 @@
 #     capabilities), `systemctl reload` reloads, `systemctl stop` ends it with status 0 and the
 #     state and a rolling recording are written as user headingd under the state directory; a
 #     second start restores the state;
-#  D. a sensor that dies while running: the watchdog kills the daemon and systemd restarts it.
+#  D. a sensor that dies while running: the watchdog kills the daemon and systemd restarts it;
+#  E. [sensor] kind = "iio" on a fake IIO tree put where the kernel's would be (/sys/bus/iio under a
+#     tmpfs in the container, /dev/iio:device0), its permissions set as the udev rule and the
+#     packaged helper set them: without the packaged drop-in the unit's read-only /sys stops it
+#     with a message that names the drop-in; with it, it runs.
 # Needs root and systemd-nspawn (scripts/lib.sh installs systemd-container); exits 77 otherwise.
-# Arguments: BUILD_DIR SOURCE_DIR ROS_PEER
+# Arguments: BUILD_DIR SOURCE_DIR ROS_PEER IIO_FEEDER
 set -uo pipefail
 build="$1"
 root="$2"
 peer="$3"
+feeder="$4"
 [ "$(id -u)" -eq 0 ] || { echo "skipped: needs root"; exit 77; }
 command -v systemd-nspawn >/dev/null || { echo "skipped: no systemd-nspawn (package systemd-container)"; exit 77; }
 # The bind mount of / below lives and dies with a mount namespace of this test's own.
@@ -34,6 +39,7 @@ cleanup() {
     kill "$nspawn_pid" 2>/dev/null # nspawn asks the container's systemd to power off
     for _ in $(seq 50); do kill -0 "$nspawn_pid" 2>/dev/null || break; sleep 0.2; done
     kill -9 "$nspawn_pid" 2>/dev/null
+    [ -n "${leader:-}" ] && kill -9 "$leader" 2>/dev/null # the container's PID 1, and with it all inside
   fi
   umount "$dir/root" 2>/dev/null
   if [ -n "${KEEP:-}" ]; then echo "kept $dir"; else rm -rf "$dir"; fi
@@ -52,7 +58,7 @@ mount --bind / "$dir/root" || fail "bind mount of /"
 
 # Boot. The overlay keeps every write in memory; --private-network leaves only loopback.
 systemd-nspawn --quiet --register=no --keep-unit --link-journal=no --volatile=overlay --private-network \
-  --console=passive -D "$dir/root" --bind-ro="$dir/share:/mnt/headingd-check" --boot >"$dir/boot.log" 2>&1 &
+  --console=passive -D "$dir/root" --bind-ro="$dir/share:/mnt/headingd-check" --bind-ro="$(dirname "$feeder"):/mnt/headingd-feeder" --boot >"$dir/boot.log" 2>&1 &
 nspawn_pid=$!
 leader=
 for _ in $(seq 100); do
@@ -63,6 +69,11 @@ for _ in $(seq 100); do
 done
 [ -n "$leader" ] || fail "the container did not start: $(tail -5 "$dir/boot.log")"
 inside() { nsenter -t "$leader" -a "$@"; }
+# PID 1 listens on its bus a moment after it starts; then wait for the boot to finish.
+for _ in $(seq 100); do
+  inside systemctl is-system-running 2>&1 | grep -q 'Failed to connect to bus' || break
+  sleep 0.2
+done
 state=$(inside timeout 90 systemctl is-system-running --wait 2>&1)
 case "$state" in running | degraded) ;; *) fail "the container's systemd did not finish booting: $state" ;; esac
 echo "ok: booted systemd $(inside systemctl --version | sed -n '1s/systemd \([0-9]*\).*/\1/p') as PID 1 of a container ($state)"
@@ -177,3 +188,43 @@ said_at "$t0" all 'Watchdog timeout' || fail "D: restarted, but not by the watch
 said_at "$t0" 4 "sensor dead" || fail "D: the dead sensor is not in the journal at priority warning"
 inside systemctl stop headingd
 echo "ok: a dead sensor: the watchdog killed and systemd restarted the daemon ($(journal_since "$t0" | grep -m1 'Watchdog timeout'))"
+
+# ---- E. an IIO gyro: the unit's /sys is read-only; the packaged drop-in opens it ------------------
+inside mount -t tmpfs -o mode=755 headingd-fake-sysfs /sys/bus || fail "E: tmpfs over the container's /sys/bus"
+inside mkdir -p /sys/bus/iio/devices
+inside cp /etc/headingd/check.toml /etc/headingd/iio.toml
+inside sed -i -e 's|^kind = "l3gd20h"$|kind = "iio"|' /etc/headingd/iio.toml
+inside grep -q '^kind = "iio"$' /etc/headingd/iio.toml || fail "E: shipped config has no 'kind = \"l3gd20h\"' line"
+# feed SECONDS: the simulated gyro behind the fake tree, permissions as udev and the helper give them.
+feed() {
+  # One feeder at a time: two would both write scans into the FIFO headingd reads.
+  inside pkill -f /mnt/headingd-feeder/
+  for _ in $(seq 50); do inside pgrep -f /mnt/headingd-feeder/ >/dev/null || break; sleep 0.1; done
+  inside "/mnt/headingd-feeder/$(basename "$feeder")" / st16 still 5 "$1" paced >"$dir/feeder.out" 2>&1 &
+  for _ in $(seq 100); do grep -qs ready "$dir/feeder.out" && break; sleep 0.05; done
+  grep -qs ready "$dir/feeder.out" || fail "E: the feeder did not start: $(cat "$dir/feeder.out")"
+  inside chgrp iio /dev/iio:device0 && inside chmod 0660 /dev/iio:device0 || fail "E: the device node's group"
+  inside /usr/lib/headingd/iio-permissions /bus/iio/devices/iio:device0
+}
+dropin /etc/headingd/iio.toml
+feed 30
+t0=$(inside date +%s)
+inside systemctl start headingd 2>/dev/null && fail "E: started an IIO gyro with /sys read-only"
+said_at "$t0" 3 "headingd-iio.conf" || fail "E: without the drop-in, the error does not name it: $(journal_since "$t0" -p err..err | tail -2)"
+echo "ok: IIO without the drop-in: $(journal_since "$t0" -p err..err | grep -m1 headingd-iio.conf)"
+inside systemctl stop headingd
+inside install -m 644 /usr/share/headingd/headingd-iio.conf /etc/systemd/system/headingd.service.d/iio.conf
+inside systemctl daemon-reload
+feed 30
+t0=$(inside date +%s)
+timeout 60 nsenter -t "$leader" -a systemctl start headingd || fail "E: with the drop-in: $(show Result)"
+sleep 11
+status=$(show StatusText)
+# Standing still: the heading stays within a degree (a bias left at zero would turn it 0.45 deg/s).
+heading=$(sed -n 's/^heading \([-0-9.]*\) deg.* \([0-9]*\) samples.*/\1 \2/p' <<<"$status")
+awk -v h="${heading% *}" -v n="${heading#* }" 'BEGIN { exit !(n > 3000 && h > -1 && h < 1) }' </dev/null ||
+  fail "E: STATUS= '$status'"
+[ "$(show NRestarts)" = 0 ] || fail "E: restarted $(show NRestarts) times"
+inside systemctl stop headingd
+[ "$(show ExecMainStatus)" = 0 ] || fail "E: stop: status $(show ExecMainStatus)"
+echo "ok: IIO with the packaged drop-in: runs under the unit as headingd; STATUS=\"$status\""
