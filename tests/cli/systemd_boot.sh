@@ -70,8 +70,8 @@ done
 [ -n "$leader" ] || fail "the container did not start: $(tail -5 "$dir/boot.log")"
 inside() { nsenter -t "$leader" -a "$@"; }
 # PID 1 listens on its bus a moment after it starts; then wait for the boot to finish.
-for _ in $(seq 100); do
-  inside systemctl is-system-running 2>&1 | grep -q 'Failed to connect to bus' || break
+for _ in $(seq 150); do
+  inside test -S /run/systemd/private 2>/dev/null && break
   sleep 0.2
 done
 state=$(inside timeout 90 systemctl is-system-running --wait 2>&1)
@@ -79,6 +79,17 @@ case "$state" in running | degraded) ;; *) fail "the container's systemd did not
 echo "ok: booted systemd $(inside systemctl --version | sed -n '1s/systemd \([0-9]*\).*/\1/p') as PID 1 of a container ($state)"
 
 inside dpkg -i /mnt/headingd-check/headingd.deb >"$dir/dpkg.log" 2>&1 || fail "dpkg -i in the container: $(tail -3 "$dir/dpkg.log")"
+# The asan preset packages a sanitized binary: the unit gets the suite's sanitizer options (the
+# service does not inherit ours), less LeakSanitizer, which stops the world through ptrace, which
+# the unit's system-call filter refuses (~@debug); its fatal error turned every exit into 1.
+# Leaks are left to the rest of the suite.
+if grep -qa __asan_init "$build/app/headingd"; then
+  inside mkdir -p /etc/systemd/system/headingd.service.d
+  printf '[Service]\nEnvironment="ASAN_OPTIONS=%s:detect_leaks=0" "UBSAN_OPTIONS=%s"\n' "${ASAN_OPTIONS:-}" \
+    "${UBSAN_OPTIONS:-}" |
+    inside tee /etc/systemd/system/headingd.service.d/asan.conf >/dev/null
+  inside systemctl daemon-reload
+fi
 show() { inside systemctl show headingd -p "$1" --value; }
 # wait_for PROPERTY VALUE SECONDS
 wait_for() {
