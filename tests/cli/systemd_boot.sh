@@ -17,7 +17,9 @@
 #  E. [sensor] kind = "iio" on a fake IIO tree put where the kernel's would be (/sys/bus/iio under a
 #     tmpfs in the container, /dev/iio:device0), its permissions set as the udev rule and the
 #     packaged helper set them: without the packaged drop-in the unit's read-only /sys stops it
-#     with a message that names the drop-in; with it, it runs.
+#     with a message that names the drop-in; with it, it runs;
+#  F. the package's own scripts with the service running: an upgrade (the same package again)
+#     restarts it onto the new binary, removal stops it, purge removes the state.
 # Needs root and systemd-nspawn (scripts/lib.sh installs systemd-container); exits 77 otherwise.
 # Arguments: BUILD_DIR SOURCE_DIR ROS_PEER IIO_FEEDER
 set -uo pipefail
@@ -239,3 +241,29 @@ awk -v h="${heading% *}" -v n="${heading#* }" 'BEGIN { exit !(n > 3000 && h > -1
 inside systemctl stop headingd
 [ "$(show ExecMainStatus)" = 0 ] || fail "E: stop: status $(show ExecMainStatus)"
 echo "ok: IIO with the packaged drop-in: runs under the unit as headingd; STATUS=\"$status\""
+
+# ---- F. upgrade, removal and purge with the service running ---------------------------------------
+inside rm -f /etc/systemd/system/headingd.service.d/iio.conf
+dropin /etc/headingd/check.toml "--simulated-chip still --sim-realtime"
+inside systemctl start headingd || fail "F: start"
+before=$(show MainPID)
+# Docker-made images (this machine's among them) carry a policy-rc.d that forbids packages any
+# service action (exit 101); the scripts honour it, through deb-systemd-invoke. A vehicle's
+# Debian has none: remove it, in the container only, and upgrade again.
+if inside test -x /usr/sbin/policy-rc.d; then
+  inside dpkg -i /mnt/headingd-check/headingd.deb >"$dir/upgrade.log" 2>&1 || fail "F: upgrade: $(tail -3 "$dir/upgrade.log")"
+  [ "$(show MainPID)" = "$before" ] || fail "F: the upgrade restarted the service against policy-rc.d"
+  echo "ok: with policy-rc.d forbidding it, an upgrade left the running service alone"
+  inside rm /usr/sbin/policy-rc.d
+fi
+inside dpkg -i /mnt/headingd-check/headingd.deb >"$dir/upgrade.log" 2>&1 || fail "F: upgrade: $(tail -3 "$dir/upgrade.log")"
+after=$(show MainPID)
+[ "$(show ActiveState)" = active ] && [ "$after" != "$before" ] && [ "$after" != 0 ] ||
+  fail "F: after the upgrade: $(show ActiveState), main PID $before -> $after (want a new one)"
+echo "ok: an upgrade restarted the running service onto the new binary (PID $before -> $after)"
+inside dpkg -r headingd >"$dir/remove.log" 2>&1 || fail "F: dpkg -r: $(tail -3 "$dir/remove.log")"
+[ "$(show ActiveState)" = inactive ] && ! inside pgrep -x headingd >/dev/null || fail "F: still running after removal"
+inside test -f /var/lib/headingd/state || fail "F: removal took the state (only purge may)"
+inside dpkg -P headingd >"$dir/purge.log" 2>&1 || fail "F: dpkg -P: $(tail -3 "$dir/purge.log")"
+inside test ! -e /var/lib/headingd || fail "F: the state directory outlived the purge"
+echo "ok: removal stopped the service and kept its state; purge removed it"
