@@ -5,6 +5,7 @@
 
 #include "app/job.hpp"
 #include "app/sensor.hpp"
+#include "hw/iio_device.hpp"
 #include "io/csv_replay.hpp"
 #include "pipeline/estimates_sink.hpp"
 #include "pipeline/pacer.hpp"
@@ -41,8 +42,10 @@ SensorOptions merged_sensor(const SensorOptions& file, const RunOptions& options
   return s;
 }
 
-// The sensor, with the driver's warnings going to our log and SIGTERM ending its waits.
-std::unique_ptr<Sensor> open_live(const SensorOptions& sensor) {
+// The sensor, with the driver's warnings going to our log and SIGTERM ending its waits; null
+// (and `code`, the exit code) when it cannot be opened.
+std::unique_ptr<Sensor> open_live(const SensorOptions& sensor, int& code) {
+  code = kExitNoInput;
   try {
     SensorHooks hooks;
     hooks.stop = &stop_flag();
@@ -50,6 +53,10 @@ std::unique_ptr<Sensor> open_live(const SensorOptions& sensor) {
       log(static_cast<LogPriority>(priority), key, text);
     };
     return open_sensor(sensor, hooks);
+  } catch (const drivers::IioReadOnlyError& error) {
+    report(LogPriority::Error, std::string(error.what()));
+    code = kExitConfig;  // the service's sandbox, not the sensor: a restart would meet it again
+    return nullptr;
   } catch (const std::exception& error) {
     report(LogPriority::Error, std::string(error.what()));
     return nullptr;
@@ -80,8 +87,9 @@ int open_configured_sensor(const Config& config, const RunOptions& options, std:
     report(LogPriority::Error, options.config_path.value_or("") + ": " + unknown);
     return kExitConfig;
   }
-  sensor = open_live(sensor_options);
-  return sensor ? 0 : kExitNoInput;
+  int code = 0;
+  sensor = open_live(sensor_options, code);
+  return sensor ? 0 : code;
 }
 
 }  // namespace

@@ -57,7 +57,8 @@ void write_attribute(const std::string& path, const std::string& value) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {
     const int error = errno;
-    if (error == EROFS) throw IioError("cannot write " + path + ": " + std::strerror(error) + "; " + kReadOnlyHint);
+    if (error == EROFS)
+      throw IioReadOnlyError("cannot write " + path + ": " + std::strerror(error) + "; " + kReadOnlyHint);
     if (error == EACCES || error == EPERM)
       throw IioError("cannot write " + path + ": " + std::strerror(error) + "; " + kUdevHint);
     throw IioError("cannot open " + path + " for writing: " + std::strerror(error));

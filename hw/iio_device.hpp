@@ -33,6 +33,12 @@ class IioError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+// /sys is mounted read-only (under systemd: the unit's ProtectKernelTunables=). No retry mends
+// it, so the daemon says so and exits as for a configuration error (78), which is not restarted.
+class IioReadOnlyError : public IioError {
+ public:
+  using IioError::IioError;
+};
 
 // What a set-up device is and how to read it.
 struct IioBinding {

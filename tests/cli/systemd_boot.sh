@@ -17,7 +17,7 @@
 #  E. [sensor] kind = "iio" on a fake IIO tree put where the kernel's would be (/sys/bus/iio under a
 #     tmpfs in the container, /dev/iio:device0), its permissions set as the udev rule and the
 #     packaged helper set them: without the packaged drop-in the unit's read-only /sys stops it
-#     with a message that names the drop-in; with it, it runs;
+#     (exit 78, not restarted) with a message that names the drop-in; with it, it runs;
 #  F. the package's own scripts with the service running: an upgrade (the same package again)
 #     restarts it onto the new binary, removal stops it, purge removes the state.
 # Needs root and systemd-nspawn (scripts/lib.sh installs systemd-container); exits 77 otherwise.
@@ -224,7 +224,10 @@ feed 30
 t0=$(inside date +%s)
 inside systemctl start headingd 2>/dev/null && fail "E: started an IIO gyro with /sys read-only"
 said_at "$t0" 3 "headingd-iio.conf" || fail "E: without the drop-in, the error does not name it: $(journal_since "$t0" -p err..err | tail -2)"
-echo "ok: IIO without the drop-in: $(journal_since "$t0" -p err..err | grep -m1 headingd-iio.conf)"
+sleep 2 # no restart comes: the sandbox is the unit's configuration, which a restart meets again
+[ "$(show ExecMainStatus)" = 78 ] && [ "$(show NRestarts)" = 0 ] && [ "$(show ActiveState)" = failed ] ||
+  fail "E: without the drop-in: status $(show ExecMainStatus), $(show NRestarts) restarts, $(show ActiveState) (want 78, 0, failed)"
+echo "ok: IIO without the drop-in: exit 78, no restart: $(journal_since "$t0" -p err..err | grep -m1 headingd-iio.conf)"
 inside systemctl stop headingd
 inside install -m 644 /usr/share/headingd/headingd-iio.conf /etc/systemd/system/headingd.service.d/iio.conf
 inside systemctl daemon-reload
