@@ -30,21 +30,12 @@ headingd_config() {  # pki: headingd's configuration with that PKI's security
 }
 headingd_config "$pki" >"$dir/headingd.toml"
 
-cyclone_config() {  # who [pki]: Cyclone's loopback configuration with that identity's security
+cyclone_config() {  # who [pki]: that identity's security, a second document beside the loopback one
   local pki="${2:-$pki}"
   cat <<XML
 <?xml version="1.0" encoding="UTF-8"?>
 <CycloneDDS xmlns="https://cdds.io/config">
   <Domain Id="any">
-    <General>
-      <Interfaces><NetworkInterface address="127.0.0.1"/></Interfaces>
-      <AllowMulticast>false</AllowMulticast>
-    </General>
-    <Discovery>
-      <ParticipantIndex>auto</ParticipantIndex>
-      <MaxAutoParticipantIndex>20</MaxAutoParticipantIndex>
-      <SPDPInterval>1s</SPDPInterval><Peers><Peer address="127.0.0.1"/></Peers>
-    </Discovery>
     <Security>
       <Authentication>
         <Library path="$plugins/libdds_security_auth.so"/>
@@ -66,10 +57,13 @@ cyclone_config() {  # who [pki]: Cyclone's loopback configuration with that iden
 </CycloneDDS>
 XML
 }
+# Cyclone reads a comma-separated list of documents: the loopback settings all peers share
+# (tests/interop/cyclone.xml, from ros2_common.sh), then the identity's.
+loopback="$CYCLONEDDS_URI"
 cyclone_config navigation >"$dir/navigation.xml"
 cyclone_config observer >"$dir/observer.xml"
 
-CYCLONEDDS_URI="file://$dir/navigation.xml" "$peer" listen $domain 24 >"$dir/navigation.out" 2>"$dir/navigation.err" &
+CYCLONEDDS_URI="$loopback,file://$dir/navigation.xml" "$peer" listen $domain 24 >"$dir/navigation.out" 2>"$dir/navigation.err" &
 pids+=($!)
 "$peer" listen $domain 24 >"$dir/plain.out" 2>"$dir/plain.err" &  # ros2_common.sh's plain loopback configuration
 pids+=($!)
@@ -78,11 +72,11 @@ sleep 1
 run_pid=$!
 pids+=("$run_pid")
 sleep 8
-CYCLONEDDS_URI="file://$dir/observer.xml" "$peer" set-heading $domain 2.0 0 >"$dir/observer.cmd" 2>&1 &&
+CYCLONEDDS_URI="$loopback,file://$dir/observer.xml" "$peer" set-heading $domain 2.0 0 >"$dir/observer.cmd" 2>&1 &&
   fail "the observer, who may not publish commands, sent one: $(cat "$dir/observer.cmd")"
 grep -q "headingd/command writer: " "$dir/observer.cmd" ||
   fail "the observer's command failed for another reason than its permissions: $(cat "$dir/observer.cmd")"
-CYCLONEDDS_URI="file://$dir/navigation.xml" "$peer" set-heading $domain 1.0 0 >"$dir/navigation.cmd" 2>&1 ||
+CYCLONEDDS_URI="$loopback,file://$dir/navigation.xml" "$peer" set-heading $domain 1.0 0 >"$dir/navigation.cmd" 2>&1 ||
   fail "navigation's heading fix was not sent: $(cat "$dir/navigation.cmd")"
 wait "$run_pid" || fail "headingd run: $(tail -3 "$dir/run.err")"
 for p in "${pids[@]:0:2}"; do wait "$p"; done
@@ -112,7 +106,7 @@ order=$(bash "$root/scripts/dds-security-order.sh" "$pki2/headingd.pem" "$pki2/n
 grep -q "^headingd begins" <<<"$order" || fail "with sros2-style subjects headingd should begin: $order"
 headingd_config "$pki2" >"$dir/headingd-ros2.toml"
 cyclone_config navigation "$pki2" >"$dir/navigation-ros2.xml"
-CYCLONEDDS_URI="file://$dir/navigation-ros2.xml" "$peer" listen $domain 12 >"$dir/ros2names.out" 2>"$dir/ros2names.err" &
+CYCLONEDDS_URI="$loopback,file://$dir/navigation-ros2.xml" "$peer" listen $domain 12 >"$dir/ros2names.out" 2>"$dir/ros2names.err" &
 listener=$!
 pids+=("$listener")
 sleep 1
