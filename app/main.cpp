@@ -2,6 +2,7 @@
 // *_command.cpp; this file only parses the command line and dispatches.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "app/batch_replay.hpp"
@@ -9,6 +10,7 @@
 #include "app/run_command.hpp"
 #include "core/version.hpp"
 #include "service/exit_codes.hpp"
+#include "service/log.hpp"
 #include "service/signals.hpp"
 #include "tools/allan_command.hpp"
 #include "tools/echo_command.hpp"
@@ -187,6 +189,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& version) {
     return cli.exit(version);
   } catch (const CLI::ParseError& error) {
+    // A wrong option in a unit's ExecStart: the journal files CLI11's message as an error too.
+    if (app::stderr_is_journal()) std::fputs("<3>", stderr);
     cli.exit(error);
     return app::kExitUsage;
   }

@@ -5,7 +5,8 @@
 #  A. installed with dpkg and started with the shipped configuration on a machine without the
 #     sensor: the error reaches the journal at priority err, the unit tries again every 5 s
 #     and starts by itself once the sensor is there;
-#  B. a configuration error: no restart (a restart cannot mend it), the error at priority err;
+#  B. a configuration error, and a wrong option in ExecStart: no restart (a restart cannot mend
+#     them), the error at priority err;
 #  C. the simulated chip (a drop-in replaces ExecStart, every other setting of the unit kept):
 #     `systemctl start` returns once READY=1 came, STATUS= and the watchdog pings reach systemd,
 #     a Cyclone DDS ROS 2 peer in the container's network reads Imu, Orientation and
@@ -152,6 +153,15 @@ sleep 5
   fail "B: $(show NRestarts) restarts, $(show ActiveState), status $(show ExecMainStatus) (want 0, failed, 78)"
 said_at "$t0" 3 "broken.toml" || fail "B: the configuration error is not in the journal at priority err"
 echo "ok: a broken configuration: exit 78, no restart; at err: $(journal_since "$t0" -p err..err | grep -m1 broken.toml)"
+inside systemctl reset-failed headingd
+dropin /etc/headingd/check.toml "--no-such-option"
+t0=$(inside date +%s)
+inside systemctl start headingd 2>/dev/null && fail "B: started with a wrong option"
+sleep 2
+[ "$(show NRestarts)" = 0 ] && [ "$(show ExecMainStatus)" = 64 ] ||
+  fail "B: a wrong option: $(show NRestarts) restarts, status $(show ExecMainStatus) (want 0, 64)"
+said_at "$t0" 3 "no-such-option" || fail "B: the wrong option is not in the journal at priority err"
+echo "ok: a wrong option in ExecStart: exit 64, no restart; at err: $(journal_since "$t0" -p err..err | grep -m1 no-such-option)"
 inside systemctl reset-failed headingd
 
 # ---- C. the simulated chip under the unit's sandbox --------------------------------------------
