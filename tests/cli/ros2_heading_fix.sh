@@ -90,7 +90,9 @@ awk -v fix_a=0.5 -v var_a=1e-7 -v fix_b="$near" -v var_b="$p" -v fix_c=2.0 '
     k = jump[3]
     printf "C: heading %.9g rad, variance %.3g rad^2 at the first message after the exact fix (before: %.3g)\n", h[k], p[k], p[k - 1]
     if (!(h[k] - fix_c < 1e-4 && fix_c - h[k] < 1e-4)) { print "the heading is not the exact fix"; bad = 1 }
-    if (!(p[k] < 0.05 * p[k - 1])) { print "the variance did not start again from 0"; bad = 1 }
+    # From 0 it grows at the filter rate until the first message; a late message under load (the CI
+    # asan stage once: 5.4e-9 of 1.05e-7, 20 ms) stays far below a variance carried over (>= before).
+    if (!(p[k] < 0.25 * p[k - 1])) { print "the variance did not start again from 0"; bad = 1 }
     exit bad
   }' "$dir/peer" || fail "the fixes are not weighed as their variances say"
 
