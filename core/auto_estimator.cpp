@@ -45,6 +45,7 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
   startup_start_t_s_ = started_ ? previous_t_s_ : std::numeric_limits<double>::quiet_NaN();
   bias_confirmed_ = false;
   motion_since_basis_ = false;
+  restored_level_open_ = false;  // until doubt_restored_level() says it was saved before a restart
 }
 
 void AutoEstimator::carry_restored_bias(double saved_c, double measured_c) {
@@ -442,6 +443,7 @@ SegmentVerdict AutoEstimator::close_segment_if_due(const Sample& sample) {
     const bool full = segment_full(sample.t_s);
     const bool trips = !full && range_gate_trips(sample.rate_dps);
     if (!full && !trips) return verdict;
+    if (trips) restored_level_open_ = false;  // a segment motion cut says nothing of the level
     verdict = close_segment();
     if (trips) {
       previous_.usable = false;  // motion came between
@@ -537,7 +539,7 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
     estimate_.heading_sigma_deg = held_s * std::hypot(rate_dps, settings_.zero_rate_sigma_dps);
     estimate_.bias_sigma_dps = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   } else {
-    estimate_.heading_sigma_deg = std::sqrt(shown_heading_variance_deg2());
+    estimate_.heading_sigma_deg = std::sqrt(shown_heading_variance_deg2() + restored_level_doubt_deg2(sample.t_s));
     for (std::size_t axis = 0; axis < 3; ++axis)
       estimate_.bias_sigma_dps[static_cast<Eigen::Index>(axis)] =
           std::sqrt(std::max(0.0, filters_[axis].bias_variance()));

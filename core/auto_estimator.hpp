@@ -64,6 +64,11 @@ class AutoEstimator {
   void restore_scale(double estimate, double sigma) { scale_.restore(estimate, sigma); }
   // Restores a bias (after a restart) with its sigma; ends the start-up phase.
   void set_bias(const Vec3& bias_dps, const Vec3& sigma_dps);
+  // The bias just set was saved before the daemon went down: the level may have moved since
+  // (a power cycle, a chip replaced), so until a stop or motion has come, a quiet run that the
+  // mean test rejects restarts it after one segment, as a start-up without state would measure
+  // it (the restored level kept beside, for the next stop to choose), not after the wait.
+  void doubt_restored_level() { restored_level_open_ = true; }
   // The bias just restored held at `saved_c` and was last measured at `measured_c` (NaN:
   // unknown, then nothing is carried). At the first temperature read it follows the change to
   // it as a step while running would: moved by the temperature model where one is in use, its
@@ -101,6 +106,8 @@ class AutoEstimator {
   std::uint64_t retracted_segments() const { return retracted_; }
   // Times the bias started again from a long quiet period it could not explain (recover_after_s).
   std::uint64_t bias_recoveries() const { return recoveries_; }
+  // Of those, a bias restored after a restart that the first still segment refused (0 or 1).
+  std::uint64_t saved_bias_restarts() const { return saved_bias_restarts_; }
   // Start-up segments that looked like motion and were integrated, not taken for the bias.
   int moving_startup_segments() const { return moving_startups_; }
   // Quiet periods that looked like a stop under a wrong bias, whose level the confirmed bias
@@ -298,6 +305,8 @@ class AutoEstimator {
   // rests on; motion (a range gate trip) has come since that basis.
   bool bias_confirmed_ = false;
   bool motion_since_basis_ = false;
+  // A bias restored after a restart, neither agreed with by a stop nor left by motion yet.
+  bool restored_level_open_ = false;
   // A restored bias's temperatures until the first temperature read carries it (NaN: none).
   double restored_at_c_ = std::numeric_limits<double>::quiet_NaN();
   double restored_measured_c_ = std::numeric_limits<double>::quiet_NaN();
@@ -322,6 +331,7 @@ class AutoEstimator {
     // The heading shown leans towards the kept level while undecided: not where rejections
     // near the restarted level (if not at it) have made the restart the likelier choice.
     bool lean = false;
+    bool from_restore = false;    // it replaced a restored level at the first segment (no lean)
     bool quiet_run_over = false;  // a cut or a rejected segment has come since the recovery
     double at_t_s = 0.0;
     std::array<AxisFilter::State, 3> as_kept{};
@@ -341,10 +351,15 @@ class AutoEstimator {
   // The heading shown while a creep-sized recovery is undecided leans towards the kept level by
   // that level's probability; the filters keep the restarted one (see fill_estimate).
   double undecided_offset_deg(double t_s);
+  // The kept version's heading less the restarted one's at t_s (and the still time so far).
+  double kept_difference_deg(double t_s);
+  // What a restored level replaced without a lean adds to the shown heading's variance.
+  double restored_level_doubt_deg2(double t_s);
   double shown_undecided_deg_ = 0.0;  // in the estimate last filled
   bool recovery_ambiguous_ = false;   // the recovery under way replaces an unconfirmed bias
   bool recovery_revocable_ = false;   // a later stop may still take it back (ambiguous or not)
   std::uint64_t taken_back_ = 0;
+  std::uint64_t saved_bias_restarts_ = 0;
   // For a segment the mean test rejected: if it agrees with the replaced level, puts that level
   // back (the filters now and at the segment's start, the attitude's yaw) and re-judges.
   bool take_back_recovery(SegmentEvidence& evidence, Judgement& judgement);

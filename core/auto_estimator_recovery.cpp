@@ -160,6 +160,17 @@ double AutoEstimator::run_level_evidence() const {
 }
 
 double AutoEstimator::wait_before_recovery_s() const {
+  // A bias restored after a restart that the first quiet run rejects: the level moved while the
+  // daemon was down (a power cycle; a chip replaced), unless the platform started inside a slow
+  // turn, which a start-up without state takes for the bias too. One segment, as a start-up's,
+  // when the run's level is one a zero-rate level reaches. (The restored level waited for
+  // recover_after_s: a state 0.1 dps off cost an AGV run of short stops 88 deg in 15 minutes.)
+  if (restored_level_open_) {
+    const double largest = quiet_.mean_dps().cwiseAbs().maxCoeff();
+    const double sigma = settings_.zero_rate_sigma_dps;
+    // Half a segment: a full one lasts a sample interval less than segment_s.
+    if (largest * largest / (2.0 * sigma * sigma) <= kWaitEvidence) return 0.5 * segments_.segment_s;
+  }
   // Evidence the wait need not gather: a turn would have to hold a rate near zero to fool it.
   return std::max(segments_.segment_s, settings_.recover_after_s * (1.0 - run_level_evidence() / kWaitEvidence));
 }
@@ -310,7 +321,13 @@ void AutoEstimator::recover_bias() {
           : 0.0;
   const double exposed_s = std::max(0.0, run_start_s - trusted_until_s);
   replaced_.pending = recovery_revocable_;
-  replaced_.lean = recovery_ambiguous_;
+  // The heading shown leans towards the kept level where a creep held past the wait is the
+  // likelier story; not for a restored level the first segment rejected (a start without state
+  // takes that segment for the bias outright; a creep at the very start is the rarer story, and
+  // leaning kept 0.42 of a 0.5 dps move for a minute: 16 deg shown until the next stop).
+  replaced_.lean = recovery_ambiguous_ && !restored_level_open_;
+  replaced_.from_restore = restored_level_open_;
+  if (restored_level_open_) ++saved_bias_restarts_;
   replaced_.creep_sized = std::abs(mean.z() - quiet_.filters_at_start[2].bias_dps) <= kFastestCreepDps;
   replaced_.run_s = quiet_.duration_s;
   replaced_.still_s = quiet_.duration_s;
@@ -384,6 +401,7 @@ void AutoEstimator::recover_bias() {
   quiet_ = QuietRun{};
   outlier_ = Outlier{};
   bias_from_startup_only_ = false;
+  restored_level_open_ = false;
   // A level the confirmed bias could have drifted to stays confirmed; any other waits for a
   // stop after motion to agree with it (bias_confirmed_ is then already false).
   motion_since_basis_ = false;
@@ -401,15 +419,29 @@ double AutoEstimator::undecided_offset_deg(double t_s) {
   // a long stop converges on the restart. A faster rate change than a creep's is a turn, not a creep: no share. Only
   // the shown heading and attitude lean (and a heading saved from them); the filters and the tests do not.
   if (!replaced_.pending || !replaced_.lean || !replaced_.creep_sized) return 0.0;
+  const double difference_deg = kept_difference_deg(t_s);
+  const double odds = creep_odds();
+  return std::isfinite(difference_deg) ? odds / (1.0 + odds) * difference_deg : 0.0;
+}
+
+double AutoEstimator::kept_difference_deg(double t_s) {
   const double span_s = std::max(0.0, t_s - replaced_.at_t_s);
   if (!replaced_.quiet_run_over) replaced_.still_s = replaced_.run_s + span_s;
-  const double odds = creep_odds();
-  const double kept_share = odds / (1.0 + odds);
   const AxisFilter::State& kept = replaced_.as_kept[2];
   const AxisFilter::State& restarted = replaced_.as_restarted[2];
   // The kept version's heading less the restarted one's, carried (as in as_if_kept).
-  const double difference_deg = (kept.angle_deg - restarted.angle_deg) - span_s * (kept.bias_dps - restarted.bias_dps);
-  return std::isfinite(difference_deg) ? kept_share * difference_deg : 0.0;
+  return (kept.angle_deg - restarted.angle_deg) - span_s * (kept.bias_dps - restarted.bias_dps);
+}
+
+double AutoEstimator::restored_level_doubt_deg2(double t_s) {
+  // A restored level the first segment rejected was replaced without a lean (recover_bias): the
+  // heading shown is the restarted one's, and its variance takes the kept one's error by its
+  // odds, for the platform may have started inside a creep (a restart while driving) until the
+  // next stop decides. Creep-sized changes only, as for the lean: no creep reaches a larger one.
+  if (!replaced_.pending || !replaced_.from_restore || !replaced_.creep_sized) return 0.0;
+  const double difference_deg = kept_difference_deg(t_s);
+  const double odds = creep_odds();
+  return std::isfinite(difference_deg) ? odds / (1.0 + odds) * difference_deg * difference_deg : 0.0;
 }
 
 }  // namespace headingd::core

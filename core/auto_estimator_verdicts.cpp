@@ -66,6 +66,7 @@ SegmentVerdict AutoEstimator::close_segment() {
   verdict.range_ok = long_enough;  // the gate held on every sample of the segment
   if (!long_enough) {
     ++cut_;
+    restored_level_open_ = false;  // motion came first: the restored level meets a stop after it
     replaced_.quiet_run_over = true;
     previous_.usable = false;
     quiet_.duration_s = 0.0;  // motion: whatever the quiet run was, it has ended
@@ -87,6 +88,7 @@ SegmentVerdict AutoEstimator::close_segment() {
   // A segment whose rate changed within it is motion starting or stopping, whatever its mean:
   // neither a bias measurement nor a level that could take a restart back.
   const bool rate_changed = rate_changed_within_segment();
+  if (rate_changed) restored_level_open_ = false;
   if (!judgement.mean_ok && !rate_changed && replaced_.pending && hint_ == MotionHint::None)
     take_back_recovery(evidence, judgement);
   const bool mean_ok = judgement.mean_ok && !rate_changed;
@@ -143,6 +145,7 @@ SegmentVerdict AutoEstimator::close_segment() {
     // Only where the mean test passed on its own: a segment a "stopped" hint made still may lie
     // tenths of a dps off (a wrong hint), and one such would widen the sigma for the whole run.
     if (!after_accepted && mean_ok) stop_innovations_.add(deviation_z, filters_[2].bias_variance(), r.z());
+    restored_level_open_ = false;  // the restored level held
     reinstate_outlier();
     accept_still(mean, r, segment_.start_t_s + duration_s);
     if (hint_ != MotionHint::Stopped) add_verdict_doubt(deviation_z, sd_z, duration_s, true);

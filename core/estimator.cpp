@@ -181,6 +181,7 @@ Diagnostics Estimator::diagnostics() const {
     d.refuted_models = a->refuted_temperature_models();
     d.rate_changed_segments = a->rate_changed_segments();
     d.recoveries_taken_back = a->recoveries_taken_back();
+    d.saved_bias_restarts = a->saved_bias_restarts();
     d.returns_mended = a->returns_mended();
     d.last_return_correction_deg = a->last_return_correction_deg();
     d.gaps_bridged = a->gaps_bridged();
@@ -281,6 +282,7 @@ void Estimator::restore_after_restart(const LearnedState& state, bool with_headi
                                  .matrix();
   }
   restore(widened, with_heading);
+  if (auto* a = std::get_if<AutoEstimator>(&impl_)) a->doubt_restored_level();
 }
 
 void Estimator::set_motion_hint(MotionHint hint) {

@@ -20,6 +20,15 @@ void ServiceSink::batch_done(const core::Estimator& estimator, const core::Sampl
   const core::Estimate& last = estimator.last();
   const core::Diagnostics diagnostics = estimator.diagnostics();
   char text[300];
+  if (rose(diagnostics.saved_bias_restarts, saved_bias_restarts_seen_)) {
+    recoveries_seen_ = diagnostics.bias_recoveries;  // this one, said here
+    std::snprintf(text, sizeof text,
+                  "the saved bias did not match the first still segment: the zero-rate level moved while headingd "
+                  "was down (a power cycle, another sensor); the bias restarted there (z now %+.4f dps), and the "
+                  "next stop decides if it was a slow turn instead",
+                  last.bias_dps.z());
+    app::log(app::LogPriority::Warning, "bias-recovery", text);
+  }
   if (rose(diagnostics.bias_recoveries, recoveries_seen_)) {
     std::snprintf(text, sizeof text,
                   "the bias restarted from a long quiet period it could not explain (a start-up while turning, or "

@@ -218,8 +218,9 @@ TEST(RosDiagnostics, LevelsFollowFaultsAndSigma) {
   learned.scale_z_sigma = 0.002;
   entries = builder.build(e, learned, report, {});
   EXPECT_TRUE(has_key(entries[1], "scale_z") && has_key(entries[1], "scale_z_sigma"));
-  for (const char* key : {"bias_restarts", "bias_restarts_taken_back", "bias_restarts_refused", "returns_mended",
-                          "gaps_bridged", "temperature_models_refuted", "rejected_rate_changing"})
+  for (const char* key :
+       {"bias_restarts", "bias_restarts_taken_back", "bias_restarts_refused", "bias_restarts_of_saved_state",
+        "returns_mended", "gaps_bridged", "temperature_models_refuted", "rejected_rate_changing"})
     EXPECT_TRUE(has_key(entries[1], key)) << key;
 }
 
