@@ -30,6 +30,10 @@ void print_estimator(const core::Estimator& estimator) {
                    "  recovered    the bias started again %llu times from a long quiet period it could not "
                    "explain (a start-up while turning?)\n",
                    static_cast<unsigned long long>(d.bias_recoveries));
+    if (d.saved_noise_replaced > 0)
+      std::fprintf(stderr,
+                   "  saved noise  sigma_still measured again: the saved one did not fit the first still segment "
+                   "(a changed rate or bandwidth, another sensor)\n");
     if (d.saved_bias_restarts > 0)
       std::fprintf(stderr,
                    "  saved bias   refused by the first still segment: the zero-rate level moved while headingd "

@@ -46,6 +46,31 @@ void AutoEstimator::set_bias(const Vec3& bias_dps, const Vec3& sigma_dps) {
   bias_confirmed_ = false;
   motion_since_basis_ = false;
   restored_level_open_ = false;  // until doubt_restored_level() says it was saved before a restart
+  noise_check_open_ = false;
+}
+
+bool AutoEstimator::settle_restored_noise() {
+  // sigma_still scales the range gate (k_range of it over a segment): restored from a run at
+  // another rate or bandwidth, or from another sensor, a figure too small cuts every segment,
+  // nothing is judged still again and the bias is never measured (a state saved at 25 Hz, run at
+  // 400 Hz: 0 segments judged in 15 minutes of a simulated AGV), and the file saved at the end
+  // keeps the figure, so every later start is the same. A start-up without state takes its
+  // figure from its first segment; a restart checks the restored one against the same seconds,
+  // or against the first segment after them that does not look like motion (a restart on the move).
+  if (segment_.stats.count() < 2 || looks_moving(segment_.stats, segment_.blocks, segment_.duration_s)) return false;
+  noise_check_open_ = false;
+  const Vec3 measured = segment_.stats.sigma_dps();
+  const Vec3 restored = models_.sigma_still_dps();
+  const bool misfit = (measured.array() > kNoiseMisfit * restored.array()).any() ||
+                      (kNoiseMisfit * measured.array() < restored.array()).any();
+  if (misfit && models_.replace_sigma_still(measured)) {
+    ++saved_noise_replaced_;
+    // A segment on the move that does not look like motion is white vibration as often as a still
+    // sensor: the first accepted still segment may lower the figure once more.
+    noise_recheck_open_ = (measured.array() > restored.array()).any();
+  }
+  const Vec3 range = segment_.stats.max_dps() - segment_.stats.min_dps();
+  return !(range.array() > settings_.k_range * models_.sigma_still_dps().array()).any();
 }
 
 void AutoEstimator::carry_restored_bias(double saved_c, double measured_c) {
@@ -332,7 +357,9 @@ const Estimate& AutoEstimator::bridge_gap(const Sample& sample, double gap_s) {
   } else {
     follow_temperature(sample.temp_c, sample.t_s);
     if (long_enough) {
-      estimate_.closed = close_segment();
+      const bool moved = noise_check_open_ && !settle_restored_noise();  // the gate did not watch it
+      if (moved) restored_level_open_ = false;
+      estimate_.closed = close_segment(moved);
       before.still = estimate_.closed.accepted;
     } else if (previous_.usable && within_gate(before.rate_dps - previous_.mean_dps)) {
       // A segment just begun that goes on as the whole one before it did (no gate tripped
@@ -441,11 +468,14 @@ SegmentVerdict AutoEstimator::close_segment_if_due(const Sample& sample) {
   } else {
     follow_temperature(sample.temp_c, sample.t_s);
     const bool full = segment_full(sample.t_s);
-    const bool trips = !full && range_gate_trips(sample.rate_dps);
+    const bool trips = !full && !noise_check_open_ && range_gate_trips(sample.rate_dps);
     if (!full && !trips) return verdict;
-    if (trips) restored_level_open_ = false;  // a segment motion cut says nothing of the level
-    verdict = close_segment();
-    if (trips) {
+    // The first segment after a restart ends on time only; then it is judged as the range gate
+    // would have, with the noise figure it showed right.
+    const bool moved = trips || (noise_check_open_ && !settle_restored_noise());
+    if (moved) restored_level_open_ = false;  // a segment motion cut says nothing of the level
+    verdict = close_segment(moved && !trips);
+    if (moved) {
       previous_.usable = false;  // motion came between
       motion_since_startup_ = true;
       motion_since_basis_ = true;
@@ -549,7 +579,7 @@ void AutoEstimator::fill_estimate(const Sample& sample) {
 }
 
 std::size_t AutoEstimator::advance(const Sample* samples, std::size_t count, double until_t_s) {
-  if (!started_ || in_startup_) return 0;
+  if (!started_ || in_startup_ || noise_check_open_) return 0;  // update() takes those samples
   estimate_.closed = SegmentVerdict{};
   // In chunks, each in three passes that together do what update() does sample by sample:
   // the tests and the segment's statistics; the three axis filters, their values held in

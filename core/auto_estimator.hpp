@@ -68,7 +68,10 @@ class AutoEstimator {
   // (a power cycle, a chip replaced), so until a stop or motion has come, a quiet run that the
   // mean test rejects restarts it after one segment, as a start-up without state would measure
   // it (the restored level kept beside, for the next stop to choose), not after the wait.
-  void doubt_restored_level() { restored_level_open_ = true; }
+  // The same start re-measures the noise figures restored with it: its segments run their full
+  // length whatever the range gate says until one does not look like motion, which replaces
+  // sigma_still where it lies more than 25 % off (a changed rate or bandwidth, another sensor).
+  void doubt_restored_level() { restored_level_open_ = noise_check_open_ = true; }
   // The bias just restored held at `saved_c` and was last measured at `measured_c` (NaN:
   // unknown, then nothing is carried). At the first temperature read it follows the change to
   // it as a step while running would: moved by the temperature model where one is in use, its
@@ -108,6 +111,8 @@ class AutoEstimator {
   std::uint64_t bias_recoveries() const { return recoveries_; }
   // Of those, a bias restored after a restart that the first still segment refused (0 or 1).
   std::uint64_t saved_bias_restarts() const { return saved_bias_restarts_; }
+  // Restored noise figures (sigma_still) the first seconds after a restart replaced (0 or 1).
+  std::uint64_t saved_noise_replaced() const { return saved_noise_replaced_; }
   // Start-up segments that looked like motion and were integrated, not taken for the bias.
   int moving_startup_segments() const { return moving_startups_; }
   // Quiet periods that looked like a stop under a wrong bias, whose level the confirmed bias
@@ -181,6 +186,8 @@ class AutoEstimator {
   SegmentVerdict close_startup();
   // The start-up segment's block means scatter like motion, not like a still gyro's noise.
   bool startup_looks_moving() const;
+  // The same test on any run of samples: its 0.1 s block means scatter beyond its white noise.
+  static bool looks_moving(const SegmentStats& stats, const BlockMeans& blocks, double duration_s);
   // The start-up segment's level lies too far out for a zero-rate level (a steady turn).
   bool startup_level_far_out() const;
   // Whether the segment's block means move with time beyond their noise (kRateChangeSigmas).
@@ -197,8 +204,9 @@ class AutoEstimator {
   std::size_t startup_turns_before_segment_ = 0;
   Eigen::Quaterniond attitude_at_startup_ = Eigen::Quaterniond::Identity();
   Eigen::Quaterniond startup_attitude_with_bias(const Vec3& bias_dps, std::size_t count) const;
-  // Judges a closed segment (segment_judge) and applies the verdict.
-  SegmentVerdict close_segment();
+  // Judges a closed segment (segment_judge) and applies the verdict; one `moving` is cut as the
+  // range gate cuts (the first after a restart, which the gate did not watch).
+  SegmentVerdict close_segment(bool moving = false);
   void accept_still(const Vec3& mean_dps, const Vec3& r_dps2, double t_s);
   void follow_temperature(double temp_c, double t_s);
   // A restored bias follows the change from its saved temperature to the one read now.
@@ -307,6 +315,15 @@ class AutoEstimator {
   bool motion_since_basis_ = false;
   // A bias restored after a restart, neither agreed with by a stop nor left by motion yet.
   bool restored_level_open_ = false;
+  // The first segments after a restart, not cut by the range gate, check the restored noise
+  // until one does not look like motion.
+  bool noise_check_open_ = false;
+  static constexpr double kNoiseMisfit = 1.25;  // sigma_still this far off either way is replaced
+  bool noise_recheck_open_ = false;             // a figure raised by it, until the first accepted still segment
+  std::uint64_t saved_noise_replaced_ = 0;
+  // At such a segment's end: replaces a sigma_still it shows wrong; whether the segment was still
+  // (not moving, and within the range gate of the figure now in use).
+  bool settle_restored_noise();
   // A restored bias's temperatures until the first temperature read carries it (NaN: none).
   double restored_at_c_ = std::numeric_limits<double>::quiet_NaN();
   double restored_measured_c_ = std::numeric_limits<double>::quiet_NaN();

@@ -31,14 +31,18 @@ constexpr int kMaxFarOutStartups = 10;
 }  // namespace
 
 bool AutoEstimator::startup_looks_moving() const {
-  // Still, the segment's 0.1 s block means scatter as its white noise allows (the chip's
-  // low-pass can make that a few times the samples' own variance at high rates); a hand or a
-  // vehicle turning moves them by the motion, tens of times more (BROAD's rotations: 20-29).
+  return looks_moving(segment_.stats, segment_.blocks, segment_.duration_s);
+}
+
+bool AutoEstimator::looks_moving(const SegmentStats& stats, const BlockMeans& blocks, double duration_s) {
+  // Still, the 0.1 s block means scatter as the white noise allows (the chip's low-pass can
+  // make that a few times the samples' own variance at high rates); a hand or a vehicle
+  // turning moves them by the motion, tens of times more (BROAD's rotations: 20-29).
   NoiseDensity blocks_only;
-  blocks_only.add(segment_.blocks);
-  if (!blocks_only.known() || segment_.stats.count() < 2) return false;
-  const double dt_s = segment_.duration_s / static_cast<double>(segment_.stats.count());
-  const Vec3 from_samples = segment_.stats.sigma_dps().cwiseAbs2() * dt_s;
+  blocks_only.add(blocks);
+  if (!blocks_only.known() || stats.count() < 2) return false;
+  const double dt_s = duration_s / static_cast<double>(stats.count());
+  const Vec3 from_samples = stats.sigma_dps().cwiseAbs2() * dt_s;
   return (blocks_only.density_squared().array() > kMovingStartupRatio * from_samples.array()).any();
 }
 

@@ -59,10 +59,11 @@ bool AutoEstimator::rate_changed_within_segment() const {
   return false;
 }
 
-SegmentVerdict AutoEstimator::close_segment() {
+SegmentVerdict AutoEstimator::close_segment(bool moving) {
   SegmentVerdict verdict{.closed = true, .index = segment_index_};
   const double duration_s = segment_.duration_s;
-  const bool long_enough = duration_s + kTimeEpsilonS >= settings_.min_segment_s && segment_.stats.count() >= 2;
+  const bool long_enough =
+      !moving && duration_s + kTimeEpsilonS >= settings_.min_segment_s && segment_.stats.count() >= 2;
   verdict.range_ok = long_enough;  // the gate held on every sample of the segment
   if (!long_enough) {
     ++cut_;
@@ -146,6 +147,11 @@ SegmentVerdict AutoEstimator::close_segment() {
     // tenths of a dps off (a wrong hint), and one such would widen the sigma for the whole run.
     if (!after_accepted && mean_ok) stop_innovations_.add(deviation_z, filters_[2].bias_variance(), r.z());
     restored_level_open_ = false;  // the restored level held
+    if (noise_recheck_open_) [[unlikely]] {
+      noise_recheck_open_ = false;
+      const Vec3 still = segment_.stats.sigma_dps();
+      if ((kNoiseMisfit * still.array() < models_.sigma_still_dps().array()).any()) models_.replace_sigma_still(still);
+    }
     reinstate_outlier();
     accept_still(mean, r, segment_.start_t_s + duration_s);
     if (hint_ != MotionHint::Stopped) add_verdict_doubt(deviation_z, sd_z, duration_s, true);

@@ -33,6 +33,7 @@ struct Diagnostics {
   std::uint64_t rate_changed_segments = 0;  // auto: passed the mean test, rejected: the rate changed within
   std::uint64_t recoveries_taken_back = 0;  // auto: a later stop agreed with the level replaced
   std::uint64_t saved_bias_restarts = 0;    // auto: of bias_recoveries, a saved bias the first still segment refused
+  std::uint64_t saved_noise_replaced = 0;   // auto: a saved sigma_still the first seconds showed wrong
   // auto: restarts back to a level a stop had measured, whose heading correction a stop after
   // motion confirmed, and the last such correction (deg; the heading jumped by it).
   std::uint64_t returns_mended = 0;

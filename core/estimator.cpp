@@ -182,6 +182,7 @@ Diagnostics Estimator::diagnostics() const {
     d.rate_changed_segments = a->rate_changed_segments();
     d.recoveries_taken_back = a->recoveries_taken_back();
     d.saved_bias_restarts = a->saved_bias_restarts();
+    d.saved_noise_replaced = a->saved_noise_replaced();
     d.returns_mended = a->returns_mended();
     d.last_return_correction_deg = a->last_return_correction_deg();
     d.gaps_bridged = a->gaps_bridged();

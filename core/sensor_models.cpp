@@ -39,6 +39,12 @@ void SensorModels::assume_white_if_unknown(const SegmentStats& stats, double dur
   white_dps2_s_ = stats.sigma_dps().cwiseAbs2() * (duration_s / stats.count());
 }
 
+bool SensorModels::replace_sigma_still(const Vec3& sigma_dps) {
+  if (segments_.sigma_still_dps) return false;
+  sigma_still_dps_ = sigma_dps.cwiseMax(kMinSigmaStillDps);
+  return true;
+}
+
 void SensorModels::relearn_after_recovery(const Vec3& sigma_dps) {
   for (auto& model : temperature_) model = TemperatureModel(settings_.temperature);
   if (!segments_.sigma_still_dps) sigma_still_dps_ = sigma_dps.cwiseMax(kMinSigmaStillDps);

@@ -90,6 +90,9 @@ class SensorModels {
     return axis == 2 ? white_z_dps2_s(vibration(), dt_s) : white_dps2_s_[axis];
   }
 
+  // A restored sigma_still the first seconds after a restart showed wrong: theirs instead
+  // (false where one is configured, which always wins).
+  bool replace_sigma_still(const Vec3& sigma_dps);
   // After a restart: the noise figures and the temperature models saved before.
   void restore_noise(const Vec3& sigma_still_dps, const Vec3& arw_dps_rt_hz);
   void restore_temperature_model(int axis, const TemperatureModel::Sums& sums, std::uint32_t points) {

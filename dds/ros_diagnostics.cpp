@@ -134,6 +134,7 @@ DiagnosticEntry DiagnosticsBuilder::estimator(const core::Estimate& e, const cor
                   {"bias_restarts_taken_back", std::to_string(d.recoveries_taken_back)},
                   {"bias_restarts_refused", std::to_string(d.refused_recoveries)},
                   {"bias_restarts_of_saved_state", std::to_string(d.saved_bias_restarts)},
+                  {"noise_of_saved_state_replaced", std::to_string(d.saved_noise_replaced)},
                   {"returns_mended", std::to_string(d.returns_mended)},
                   {"gaps_bridged", std::to_string(d.gaps_bridged)},
                   {"temperature_model", model},

@@ -20,6 +20,13 @@ void ServiceSink::batch_done(const core::Estimator& estimator, const core::Sampl
   const core::Estimate& last = estimator.last();
   const core::Diagnostics diagnostics = estimator.diagnostics();
   char text[300];
+  if (rose(diagnostics.saved_noise_replaced, saved_noise_replaced_seen_)) {
+    std::snprintf(text, sizeof text,
+                  "the saved noise figures did not fit the first still segment (a changed rate or bandwidth, or "
+                  "another sensor): sigma_still measured again, z now %.4f dps",
+                  diagnostics.sigma_still_dps.z());
+    app::log(app::LogPriority::Warning, "noise", text);
+  }
   if (rose(diagnostics.saved_bias_restarts, saved_bias_restarts_seen_)) {
     recoveries_seen_ = diagnostics.bias_recoveries;  // this one, said here
     std::snprintf(text, sizeof text,

@@ -1301,6 +1301,53 @@ TEST(AutoEstimator, ARestartTakenForAMovedLevelIsTakenBackByTheNextStop) {
   EXPECT_LT(std::abs(restarted.error()), 0.5);
 }
 
+// A state file whose noise figures another configuration left (a lower rate or bandwidth: a
+// smaller per-sample sigma) made the range gate cut every segment, for good: nothing was judged
+// still again and the file saved at the end kept the figure. The first still segment after a
+// restart now measures sigma_still again; on the move, the first one that does not look like
+// motion (the segments before it are cut, as the gate would).
+TEST(AutoEstimator, ARestartMeasuresTheNoiseAgainWhereTheSavedFigureDoesNotFit) {
+  LearnedState saved = learned_over_a_stop_a_drive_and_a_stop();
+  saved.sigma_still_dps /= 3.0;  // as a run at a ninth of the bandwidth would save it
+  Rig fresh;
+  fresh.run(10.0, 0.0);
+  fresh.run(60.0, 10.0, 1.0);
+  fresh.run(30.0, 0.0);
+  for (const double drive_first_s : {0.0, 20.0}) {
+    const auto run = [&](bool after_restart) {
+      Rig restarted;
+      if (after_restart)
+        restarted.estimator().restore_after_restart(saved, false);
+      else
+        restarted.estimator().restore(saved, false);  // as every restart did before
+      if (drive_first_s > 0.0) restarted.run(drive_first_s, 10.0, 1.0);
+      restarted.run(10.0, 0.0);
+      restarted.run(60.0, 10.0, 1.0);
+      restarted.run(30.0, 0.0);
+      return restarted;
+    };
+    Rig now = run(true), before = run(false);
+    const Diagnostics d = now.estimator().diagnostics();
+    std::printf(
+        "saved sigma_still a third of the sensor's, %s: %llu segments accepted, heading error %.2f deg (as "
+        "before: %llu accepted, %.2f deg; no state %.2f deg)\n",
+        drive_first_s > 0.0 ? "started on the move" : "started parked",
+        static_cast<unsigned long long>(d.accepted_segments), now.error(),
+        static_cast<unsigned long long>(before.estimator().diagnostics().accepted_segments), before.error(),
+        fresh.error());
+    EXPECT_EQ(d.saved_noise_replaced, 1u) << drive_first_s;
+    EXPECT_NEAR(d.sigma_still_dps.z(), 0.2, 0.02) << "the rig's own noise";
+    EXPECT_GE(d.accepted_segments, 10u) << drive_first_s;
+    EXPECT_LT(std::abs(now.error()), std::abs(fresh.error()) + 0.25) << drive_first_s;
+    EXPECT_EQ(before.estimator().diagnostics().accepted_segments, 0u) << "what the check mends";
+  }
+  // The figure saved by a run that fits is left as it was.
+  Rig same;
+  same.estimator().restore_after_restart(learned_over_a_stop_a_drive_and_a_stop(), false);
+  same.run(10.0, 0.0);
+  EXPECT_EQ(same.estimator().diagnostics().saved_noise_replaced, 0u);
+}
+
 // Before its first sample an estimator has learned nothing: what it hands on (the state file at a
 // stop, a configuration reload) is what it was restored from, heading included. It handed on its
 // empty estimate instead: a zero bias with a 0.01 dps sigma and no heading, written over the
