@@ -357,9 +357,8 @@ const Estimate& AutoEstimator::bridge_gap(const Sample& sample, double gap_s) {
   } else {
     follow_temperature(sample.temp_c, sample.t_s);
     if (long_enough) {
-      const bool moved = noise_check_open_ && !settle_restored_noise();  // the gate did not watch it
-      if (moved) restored_level_open_ = false;
-      estimate_.closed = close_segment(moved);
+      // The gate did not watch a segment under the noise check: judged as it would have been.
+      estimate_.closed = close_segment(noise_check_open_ && !settle_restored_noise());
       before.still = estimate_.closed.accepted;
     } else if (previous_.usable && within_gate(before.rate_dps - previous_.mean_dps)) {
       // A segment just begun that goes on as the whole one before it did (no gate tripped
