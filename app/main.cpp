@@ -96,6 +96,9 @@ int main(int argc, char** argv) {
   simulate_cmd->add_option("--seed", simulate.seed, "Random seed")->capture_default_str();
   simulate_cmd->add_option("--output-dir", simulate.output_dir, "Directory for imu.csv and truth.csv")->required();
   simulate_cmd->add_option("--hours", simulate.hours, "Length in hours (default: the scenario's own)");
+  simulate_cmd->add_option("--bias-per-c", simulate.bias_per_c_dps,
+                           "Zero-rate change with temperature on every axis, dps/C (default: the scenario's; "
+                           "the L3GD20H datasheet's typical figure is +-0.04)");
 
   app::ScoreOptions score;
   auto* score_cmd = cli.add_subcommand("score", "Score an estimates CSV against a truth CSV (paper's metrics)");

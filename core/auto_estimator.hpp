@@ -281,6 +281,7 @@ class AutoEstimator {
     Vec3 r_dps2 = Vec3::Zero();
     double last_still_before_t_s = 0.0;       // last_still_t_s_ before it
     double still_run_start_before_t_s = 0.0;  // still_run_start_t_s_ before it
+    double run_start_t_s = 0.0;               // the still run it belongs to
   };
   // `weight`: the probability that it was a creep after all (1: a hard retraction).
   void retract_last_accepted(double weight);

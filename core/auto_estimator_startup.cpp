@@ -137,7 +137,7 @@ SegmentVerdict AutoEstimator::close_startup() {
   pending_turn_ = AttitudeIntegrator::Turn{};
   if (segment_.temp_count > 0) {
     models_.add_temperature_point(segment_.start_t_s + 0.5 * duration_s, segment_.temp_sum_c / segment_.temp_count,
-                                  stats.mean_dps(), r);
+                                  stats.mean_dps(), r, segment_.start_t_s);
   }
   ++accepted_;
   last_still_t_s_ = segment_.start_t_s + duration_s;

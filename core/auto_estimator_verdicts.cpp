@@ -316,6 +316,7 @@ void AutoEstimator::accept_still(const Vec3& mean_dps, const Vec3& r_dps2, doubl
   bias_measured_at(segment_.temp_count > 0 ? temp_at_still_c_ : previous_temp_c_);
   last_accepted_.still_run_start_before_t_s = still_run_start_t_s_;
   still_run_start_t_s_ = run_start_t_s;
+  last_accepted_.run_start_t_s = run_start_t_s;
   last_still_t_s_ = end_t_s;
 }
 
@@ -324,7 +325,7 @@ void AutoEstimator::commit_last_accepted() {
   last_accepted_.pending = false;
   if (!last_accepted_.has_temperature) return;
   models_.add_temperature_point(last_accepted_.mid_t_s, last_accepted_.temp_c, last_accepted_.mean_dps,
-                                last_accepted_.r_dps2);
+                                last_accepted_.r_dps2, last_accepted_.run_start_t_s);
 }
 
 void AutoEstimator::retract_last_accepted(double weight) {

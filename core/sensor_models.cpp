@@ -7,13 +7,20 @@ namespace headingd::core {
 namespace {
 constexpr double kMinSigmaStillDps = 1e-6;
 constexpr double kInflatedNoiseRatio = 10.0;
+// A slope the drift assumed without a model (1 sigma) puts beyond 3 sigma contradicts it.
+constexpr double kEarlySlopePerUnmodelled = 3.0;
+
+AutoSettings with_early_slope(AutoSettings settings) {
+  settings.temperature.early_slope_dps_per_c = kEarlySlopePerUnmodelled * settings.unmodelled_bias_per_c_dps;
+  return settings;
+}
 }  // namespace
 
 SensorModels::SensorModels(const BiasSettings& segments, const AutoSettings& settings)
     : segments_(segments),
-      settings_(settings),
-      temperature_{TemperatureModel(settings.temperature), TemperatureModel(settings.temperature),
-                   TemperatureModel(settings.temperature)} {
+      settings_(with_early_slope(settings)),
+      temperature_{TemperatureModel(settings_.temperature), TemperatureModel(settings_.temperature),
+                   TemperatureModel(settings_.temperature)} {
   if (segments_.sigma_still_dps) sigma_still_dps_ = *segments_.sigma_still_dps;
   if (settings_.arw_dps_rt_hz) white_dps2_s_ = settings_.arw_dps_rt_hz->cwiseAbs2();
 }
@@ -61,10 +68,11 @@ void SensorModels::restart_noise_if_inflated(const SegmentStats& stats, const Bl
   if (!segments_.sigma_still_dps) sigma_still_dps_ = fresh.sigma_still_dps_;
 }
 
-void SensorModels::add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2) {
+void SensorModels::add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2,
+                                         double run_start_t_s) {
   for (std::size_t axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<Eigen::Index>(axis);
-    temperature_[axis].add(mid_t_s, temp_c, mean_dps[a], r_dps2[a]);
+    temperature_[axis].add(mid_t_s, temp_c, mean_dps[a], r_dps2[a], run_start_t_s);
   }
 }
 

@@ -38,7 +38,9 @@ class SensorModels {
   // segment's, they start over from it; a steady turn's noise is a still gyro's, and stays.
   void restart_noise_if_inflated(const SegmentStats& stats, const BlockMeans& blocks, double duration_s);
   // A still segment's mean at its mean temperature, once its verdict stands.
-  void add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2);
+  // `run_start_t_s`: the start of the still run it belongs to (TemperatureModel::add).
+  void add_temperature_point(double mid_t_s, double temp_c, const Vec3& mean_dps, const Vec3& r_dps2,
+                             double run_start_t_s);
   // Whether there is a temperature step from `previous_temp_c` to `temp_c` (both read, and
   // different): the bias sigma follows every one, the bias itself only where a model is in use.
   bool follows_temperature(double temp_c, double previous_temp_c) const {

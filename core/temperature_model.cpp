@@ -8,7 +8,8 @@ namespace headingd::core {
 
 TemperatureModel::TemperatureModel(const TemperatureModelSettings& settings) : settings_(settings) {}
 
-void TemperatureModel::add(double t_s, double temp_c, double bias_dps, double measurement_variance) {
+void TemperatureModel::add(double t_s, double temp_c, double bias_dps, double measurement_variance,
+                           double run_start_t_s) {
   if (!std::isfinite(temp_c) || !std::isfinite(bias_dps)) return;
   if (points_ > 0 && t_s > sums_.last_t_s) {
     const double fade = std::exp2(-(t_s - sums_.last_t_s) / settings_.half_life_s);
@@ -28,7 +29,28 @@ void TemperatureModel::add(double t_s, double temp_c, double bias_dps, double me
   noise_variance_ = points_ == 1
                         ? measurement_variance
                         : noise_variance_ + (measurement_variance - noise_variance_) / std::min<double>(points_, 50.0);
+  add_to_run(temp_c, bias_dps, run_start_t_s);
   solve();
+}
+
+void TemperatureModel::add_to_run(double temp_c, double bias_dps, double run_start_t_s) {
+  if (!(run_start_t_s == run_.start_t_s)) run_ = Run{.start_t_s = run_start_t_s};  // NaN never continues
+  const double dt_c = temp_c - settings_.reference_c;
+  ++run_.count;
+  run_.t += dt_c;
+  run_.tt += dt_c * dt_c;
+  run_.y += bias_dps;
+  run_.ty += dt_c * bias_dps;
+  run_.yy += bias_dps * bias_dps;
+  if (run_showed_slope_ || run_.count < settings_.min_points || run_.count < 3) return;
+  const double n = run_.count;
+  const double sxx = run_.tt - run_.t * run_.t / n;
+  // The same spread measure as weighted_span_c (two standard deviations times sqrt(3)).
+  if (!(sxx > 0.0) || 2.0 * std::sqrt(3.0 * sxx / n) < settings_.early_span_c) return;
+  const double slope = (run_.ty - run_.t * run_.y / n) / sxx;
+  const double syy = run_.yy - run_.y * run_.y / n;
+  const double residual_variance = std::max(std::max(0.0, syy - slope * slope * sxx) / (n - 2.0), noise_variance_);
+  run_showed_slope_ = steep(slope, residual_variance / sxx);
 }
 
 void TemperatureModel::restore(const Sums& sums, std::uint32_t points) {
@@ -49,8 +71,10 @@ void TemperatureModel::solve() {
   ready_ = false;
   coefficients_.setZero();
   slope_variance_ = 0.0;
-  if (points_ < settings_.min_points || weighted_span_c() < settings_.min_span_c) return;
-  const bool quadratic = weighted_span_c() >= settings_.quadratic_span_c;
+  const double span_c = weighted_span_c();
+  const bool early = span_c < settings_.min_span_c;
+  if (points_ < settings_.min_points || (early && !run_showed_slope_)) return;
+  const bool quadratic = span_c >= settings_.quadratic_span_c;
   const int n = quadratic ? 3 : 2;
   const Eigen::MatrixXd a = sums_.normal.topLeftCorner(n, n);
   const Eigen::VectorXd b = sums_.rhs.head(n);
@@ -65,6 +89,12 @@ void TemperatureModel::solve() {
   const double residual_variance = std::max(rss / dof, noise_variance_);
   const Eigen::MatrixXd inverse = ldlt.solve(Eigen::MatrixXd::Identity(n, n));
   slope_variance_ = residual_variance * inverse(1, 1);
+  // Early, only while all points together say the same as the run did.
+  if (early && !steep(c(1), slope_variance_)) {
+    coefficients_.setZero();
+    slope_variance_ = 0.0;
+    return;
+  }
   ready_ = true;
 }
 

@@ -123,6 +123,37 @@ TEST(TemperatureModel, LearnsLinearSlopeOnceSpreadIsEnough) {
   EXPECT_LT(std::sqrt(model.slope_variance()), 0.0005);
 }
 
+// The datasheet's typical slope (+-0.04 dps/C) through a warm-up: one stop of 3 s segments over
+// half a degree already shows it beyond doubt, long before the 2 degC spread the model waits for.
+// The same points from segments of separate stops (a creep taken for still between them can
+// make such a slope as easily as the temperature) wait for the spread; a slope the unmodelled
+// drift (3x 0.003 dps/C) covers waits too.
+TEST(TemperatureModel, OneStopShowingASteepSlopeSurelyPutsItInUseBeforeTheSpread) {
+  const auto warm_up = [](double slope, bool one_stop) {
+    TemperatureModel model;
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> noise(0.0, 0.0064);  // a 3 s mean at 0.011 dps/sqrt(Hz)
+    for (int i = 0; i < 60; ++i) {
+      const double temp = 22.0 + 0.5 * i / 59.0;
+      const double run_start_s = one_stop ? 0.0 : 3.0 * i;
+      model.add(3.0 * i + 1.5, temp, -0.45 + slope * (temp - 22.0) + noise(rng), 0.0064 * 0.0064, run_start_s);
+    }
+    return model;
+  };
+  const TemperatureModel steep = warm_up(0.04, true);
+  EXPECT_LT(steep.weighted_span_c(), 0.6);
+  ASSERT_TRUE(steep.ready());
+  EXPECT_TRUE(steep.run_showed_slope());
+  EXPECT_NEAR(steep.slope_dps_per_c(22.0), 0.04, 0.012);
+  EXPECT_FALSE(warm_up(0.04, false).ready()) << "sixty one-segment stops: no run showed it";
+  EXPECT_FALSE(warm_up(0.005, true).ready()) << "within what the unmodelled drift covers";
+  EXPECT_FALSE(warm_up(0.0, true).ready());
+  // Restored from its sums (a restart) it waits for the spread or another run again.
+  TemperatureModel restored;
+  restored.restore(steep.sums(), steep.points());
+  EXPECT_FALSE(restored.ready());
+}
+
 TEST(TemperatureModel, OldPointsFade) {
   TemperatureModelSettings settings;
   settings.half_life_s = 3600.0;

@@ -1,4 +1,5 @@
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -9,6 +10,9 @@ struct SimulateOptions {
   std::uint64_t seed = 1;
   std::string output_dir;
   double hours = 0.0;  // 0: the scenario's own length
+  // The zero-rate level's change with temperature on every axis, dps/C, in place of the
+  // scenario's own (NaN: the scenario's). The L3GD20H datasheet's typical figure is +-0.04.
+  double bias_per_c_dps = std::nan("");
 };
 
 // The scenarios' names, comma-separated (for help and errors).
