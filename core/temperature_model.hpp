@@ -22,7 +22,8 @@ struct TemperatureModelSettings {
   // of (early_sigmas of its sigma from zero) and steeper than early_slope_dps_per_c, which the
   // estimator sets to 3x the drift it assumes without a model: a drift the bias filter does
   // not follow between segments. The L3GD20H datasheet's typical +-0.04 dps/C through a
-  // warm-up had half the stops of a parked hour rejected before the spread reached min_span_c
+  // warm-up had four in ten of a parked hour's segments rejected, and the restarts that
+  // followed threw the model away, before the spread reached min_span_c
   // (bench/datasheet_tempco.sh). One run, because a steep slope over a fraction of a degree
   // across stops is as often a creep taken for still as the temperature's doing.
   double early_span_c = 0.25;
