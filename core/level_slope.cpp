@@ -23,6 +23,7 @@ bool LevelSlope::fit(const Vec3& white_dps2_s, Fit& out, double reading_variance
   // Temperatures read to a hundredth of a degree or so: a spread below that is no spread.
   if (!(sxx > 1e-4 * sum_w_)) return false;
   out.mean_temp_c = mean_t;
+  out.temp_variance_c2 = sxx / sum_w_;
   for (Eigen::Index a = 0; a < 3; ++a) {
     const double mean_y = sum_wy_[a] / sum_w_;
     const double sxy = sum_wty_[a] - sum_wt_ * mean_y;

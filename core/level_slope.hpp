@@ -3,7 +3,8 @@
 // the segments' mean rates on their mean temperatures, per axis. A quiet run that is a creep
 // holds the creep's rate on top of the bias; the rate is the same in every segment, so the
 // slope is the bias's own slope against temperature even when the level is not the bias. That
-// is what lets a run the estimator rejects still test the temperature model (AutoEstimator).
+// is what lets a run the estimator rejects still test the temperature model (AutoEstimator),
+// and what tells the temperature model that one stop shows a steep slope (TemperatureModel).
 #include <cstdint>
 
 #include "core/sample.hpp"
@@ -19,6 +20,7 @@ class LevelSlope {
     Vec3 slope_dps_per_c = Vec3::Zero();
     Vec3 slope_variance = Vec3::Zero();  // (dps/C)^2
     double mean_temp_c = 0.0;
+    double temp_variance_c2 = 0.0;  // the temperatures' weighted variance about mean_temp_c
   };
   // The slope and its variance, the noise taken as the larger of the residuals' and
   // `white_dps2_s` (N^2: a segment of length d has mean variance N^2 / d). False with fewer than

@@ -34,23 +34,16 @@ void TemperatureModel::add(double t_s, double temp_c, double bias_dps, double me
 }
 
 void TemperatureModel::add_to_run(double temp_c, double bias_dps, double run_start_t_s) {
-  if (!(run_start_t_s == run_.start_t_s)) run_ = Run{.start_t_s = run_start_t_s};  // NaN never continues
-  const double dt_c = temp_c - settings_.reference_c;
+  if (!(run_start_t_s == run_.start_t_s))
+    run_ = Run{.start_t_s = run_start_t_s, .count = 0, .slope = {}};  // NaN never continues
   ++run_.count;
-  run_.t += dt_c;
-  run_.tt += dt_c * dt_c;
-  run_.y += bias_dps;
-  run_.ty += dt_c * bias_dps;
-  run_.yy += bias_dps * bias_dps;
-  if (run_showed_slope_ || run_.count < settings_.min_points || run_.count < 3) return;
-  const double n = run_.count;
-  const double sxx = run_.tt - run_.t * run_.t / n;
+  run_.slope.add(1.0, temp_c, Vec3::Constant(bias_dps));  // every segment counts once, as in the model
+  if (run_showed_slope_ || run_.count < settings_.min_points) return;
+  LevelSlope::Fit fit;
+  if (!run_.slope.fit(Vec3::Constant(noise_variance_), fit)) return;
   // The same spread measure as weighted_span_c (two standard deviations times sqrt(3)).
-  if (!(sxx > 0.0) || 2.0 * std::sqrt(3.0 * sxx / n) < settings_.early_span_c) return;
-  const double slope = (run_.ty - run_.t * run_.y / n) / sxx;
-  const double syy = run_.yy - run_.y * run_.y / n;
-  const double residual_variance = std::max(std::max(0.0, syy - slope * slope * sxx) / (n - 2.0), noise_variance_);
-  run_showed_slope_ = steep(slope, residual_variance / sxx);
+  if (2.0 * std::sqrt(3.0 * fit.temp_variance_c2) < settings_.early_span_c) return;
+  run_showed_slope_ = steep(fit.slope_dps_per_c.x(), fit.slope_variance.x());
 }
 
 void TemperatureModel::restore(const Sums& sums, std::uint32_t points) {

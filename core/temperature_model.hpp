@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/level_slope.hpp"
+
 namespace headingd::core {
 
 struct TemperatureModelSettings {
@@ -73,11 +75,12 @@ class TemperatureModel {
            slope * slope > settings_.early_sigmas * settings_.early_sigmas * variance;
   }
 
-  // The current still run's own sums (not aged: a run lasts minutes to hours).
+  // The current still run's own regression (not aged: a run lasts minutes to hours). LevelSlope
+  // fits three axes; this model is one axis, so its level rides on every axis and x is read.
   struct Run {
     double start_t_s = std::numeric_limits<double>::quiet_NaN();
     std::uint32_t count = 0;
-    double t = 0.0, tt = 0.0, y = 0.0, ty = 0.0, yy = 0.0;
+    LevelSlope slope;
   };
 
   TemperatureModelSettings settings_;

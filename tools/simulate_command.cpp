@@ -59,12 +59,13 @@ int run_simulate(const SimulateOptions& options) {
     std::fprintf(stderr, "headingd: --hours must be a positive number of hours\n");
     return kExitUsage;
   }
-  if (!std::isnan(options.bias_per_c_dps)) {
-    if (!std::isfinite(options.bias_per_c_dps) || std::abs(options.bias_per_c_dps) > 1.0) {
+  if (options.bias_per_c_dps) {
+    // NaN fails the range test too: a given value is never taken as "not given".
+    if (!(std::abs(*options.bias_per_c_dps) <= 1.0)) {
       std::fprintf(stderr, "headingd: --bias-per-c must lie within [-1, 1] dps per degC\n");
       return kExitUsage;
     }
-    scenario->noise.bias_per_c_dps = core::Vec3::Constant(options.bias_per_c_dps);
+    scenario->noise.bias_per_c_dps = core::Vec3::Constant(*options.bias_per_c_dps);
   }
   std::error_code error;
   std::filesystem::create_directories(options.output_dir, error);

@@ -1,6 +1,6 @@
 #pragma once
-#include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace headingd::app {
@@ -11,8 +11,8 @@ struct SimulateOptions {
   std::string output_dir;
   double hours = 0.0;  // 0: the scenario's own length
   // The zero-rate level's change with temperature on every axis, dps/C, in place of the
-  // scenario's own (NaN: the scenario's). The L3GD20H datasheet's typical figure is +-0.04.
-  double bias_per_c_dps = std::nan("");
+  // scenario's own (unset: the scenario's). The L3GD20H datasheet's typical figure is +-0.04.
+  std::optional<double> bias_per_c_dps;
 };
 
 // The scenarios' names, comma-separated (for help and errors).

@@ -25,6 +25,15 @@ check() {
     fail "$scenario $per_c: only $still still segments accepted"
   awk -v e="$excess" 'BEGIN { exit !(e + 0 < 0.5) }' || fail "$scenario $per_c: heading off by $excess deg"
 }
+# A value outside the range, NaN included, is refused by name, never taken as "not given".
+for bad in nan 1.5 -inf; do
+  rc=0
+  "$headingd" simulate --scenario still --seed 1 --hours 0.01 --bias-per-c "$bad" --output-dir "$dir/bad" \
+    2>"$dir/err.txt" || rc=$?
+  [ "$rc" -eq 64 ] && grep -q -- "--bias-per-c" "$dir/err.txt" ||
+    fail "--bias-per-c $bad: exit $rc, $(cat "$dir/err.txt")"
+  [ ! -e "$dir/bad/imu.csv" ] || fail "--bias-per-c $bad wrote a recording"
+done
 check still 0.04
 check still -0.04
 check parked-ramp 0.04
