@@ -30,6 +30,12 @@ void print_estimator(const core::Estimator& estimator) {
                    "  recovered    the bias started again %llu times from a long quiet period it could not "
                    "explain (a start-up while turning?)\n",
                    static_cast<unsigned long long>(d.bias_recoveries));
+    if (d.trail_restarts > 0)
+      std::fprintf(stderr,
+                   "  trail        %llu of those restarts: the stops rejected since the bias was measured lay on one "
+                   "line against temperature (a drift faster than assumed without a model); the heading was mended "
+                   "along it and the temperature model starts from it\n",
+                   static_cast<unsigned long long>(d.trail_restarts));
     if (d.saved_noise_replaced > 0)
       std::fprintf(stderr,
                    "  saved noise  sigma_still measured again: the saved one did not fit the first still segment "

@@ -249,6 +249,7 @@ void AutoEstimator::bias_measured_at(double temp_c) {
       model_exposure_c_s_[axis] += temp_change_integral_now(axis);
   }
   temp_at_bias_c_.fill(temp_c);
+  bias_measured_t_s_ = previous_t_s_;
   temp_change_integral_c_s_.fill(0.0);
   temp_change_t_s_ = previous_t_s_;
 }

@@ -32,6 +32,7 @@
 #include "core/stop_innovations.hpp"
 #include "core/temperature_model.hpp"
 #include "core/temperature_reading.hpp"
+#include "core/temperature_trail.hpp"
 
 namespace headingd::core {
 
@@ -119,6 +120,10 @@ class AutoEstimator {
   // could not have drifted to (a creep or a slow curve held for minutes): no recovery.
   std::uint64_t refused_recoveries() const { return refused_recoveries_; }
   std::uint64_t refuted_temperature_models() const { return refuted_models_; }
+  // Of the recoveries, those a line through the rejected stops' levels against temperature
+  // explained (TemperatureTrail): the temperature model starts from that line.
+  std::uint64_t temperature_trail_restarts() const { return trail_restarts_; }
+  double last_trail_slope_z_dps_per_c() const { return last_trail_slope_z_dps_per_c_; }
   std::uint64_t rate_changed_segments() const { return rate_changed_segments_; }
   // Recoveries taken back: a stop agreed with the level the recovery had replaced, and not with
   // its own (the quiet run was a creep after all).
@@ -224,6 +229,7 @@ class AutoEstimator {
   // The integral above summed over the spans between measurements while a temperature model
   // was in use: what a wrong model slope has cost the angle per dps/C (refutation).
   std::array<double, 3> model_exposure_c_s_{};
+  double bias_measured_t_s_ = 0.0;  // when bias_measured_at last ran
   double temp_change_integral_now(std::size_t axis) const;
   // Adds the variance of a possibly wrong still/moving verdict (see AutoSettings).
   void add_verdict_doubt(double deviation_dps, double sd_dps, double duration_s, bool accepted);
@@ -298,7 +304,8 @@ class AutoEstimator {
     double accepted_before = 0.0;     // the decayed weight of accepted verdicts before it began
     std::uint64_t first_verdict = 0;  // the number of its first segment's verdict
     BiasHistory::Mark history_at_start;
-    LevelSlope slope;  // its level against temperature
+    LevelSlope slope;                         // its level against temperature
+    double temp_sum_c_s = 0.0, temp_s = 0.0;  // its temperature, integrated over the segments that read one
     Vec3 mean_dps() const { return sum_dps_s / duration_s; }
   };
   // Whether the quiet run's level is a bias the sensor could have reached since its last stop
@@ -340,6 +347,15 @@ class AutoEstimator {
   std::uint64_t rate_changed_segments_ = 0;  // passed the mean test, rejected: the rate changed within them
   void recover_bias();
   QuietRun quiet_;
+  // The quiet runs that ended rejected, as stops a drifting bias could have reached, and the
+  // restart they explain together with the run under way (TemperatureTrail).
+  TemperatureTrail trail_;
+  std::uint64_t trail_restarts_ = 0;
+  double last_trail_slope_z_dps_per_c_ = 0.0;
+  std::optional<TemperatureTrail::Line> trail_line_;  // set while recover_bias acts on it
+  void end_quiet_run();
+  bool level_within_datasheet_drift() const;
+  bool restart_on_temperature_trail();
   // What a recovery of a bias no stop had confirmed replaced, until a stop decides between the
   // two levels: the filters at the recovery as they were without it (the quiet run integrated
   // as motion) and just after it. Nothing in the quiet run tells a stop from a creep held as

@@ -59,6 +59,11 @@ constexpr double kReturnSigmas = 3.0;
 // instead lost right mends on the 2 h random worlds, where that variance is the overconfident
 // one a wrong bias left (docs/random-worlds.md, 2026-12-06).
 constexpr double kReturnSignificance = 2.0;
+// A quiet run is a stop for the temperature trail from this many segments on, the run under way
+// included (one may be the platform settling after a drive); a line's slope counts as shown
+// for the temperature model beyond this many sigmas.
+constexpr double kTrailStopSegments = 2.0;
+constexpr double kTrailSigmas = 3.0;
 
 }  // namespace
 
@@ -75,6 +80,7 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
     }
   }
   if (!agrees) {
+    end_quiet_run();
     quiet_ = QuietRun{};
     // The verdicts before this segment: the run's own rejections must not vouch for it.
     quiet_.accepted_before = judged_weight_ - rejected_weight_;
@@ -87,7 +93,13 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
   quiet_.sum_dps_s += mean_dps * duration_s;
   quiet_.sum_sq_dps2_s += mean_dps.cwiseAbs2() * duration_s;
   quiet_.sigma_dps = segment_.stats.sigma_dps();
-  if (segment_.temp_count > 0) quiet_.slope.add(duration_s, segment_.temp_sum_c / segment_.temp_count, mean_dps);
+  if (segment_.temp_count > 0) {
+    const double temp_c = segment_.temp_sum_c / segment_.temp_count;
+    quiet_.slope.add(duration_s, temp_c, mean_dps);
+    quiet_.temp_sum_c_s += temp_c * duration_s;
+    quiet_.temp_s += duration_s;
+  }
+  if (restart_on_temperature_trail()) return;
   if (quiet_.duration_s + kTimeEpsilonS < wait_before_recovery_s()) return;
   forget_models_the_run_refutes();
   // Before a stop after motion has confirmed the bias, the run may be the stop and the bias
@@ -120,6 +132,82 @@ void AutoEstimator::follow_quiet_run(const Vec3& mean_dps) {
     recover_bias();
   else if (quiet_.duration_s < settings_.recover_after_s + duration_s + kTimeEpsilonS)
     ++refused_recoveries_;  // counted once per run; the run goes on and is looked at again
+}
+
+void AutoEstimator::end_quiet_run() {
+  // Two segments or more: one may be the platform settling after a drive, or a turn's tail.
+  // Only a level the bias could have drifted to since it was measured (the datasheet's change
+  // with temperature where no model is in use): a curve or a creep is no stop to draw a line by.
+  if (quiet_.duration_s + kTimeEpsilonS >= kTrailStopSegments * segments_.segment_s && quiet_.temp_s > 0.0 &&
+      level_within_datasheet_drift())
+    trail_.add({.level_dps = quiet_.mean_dps(),
+                .temp_c = quiet_.temp_sum_c_s / quiet_.temp_s,
+                .duration_s = quiet_.duration_s});
+  quiet_.duration_s = 0.0;
+}
+
+bool AutoEstimator::level_within_datasheet_drift() const {
+  // The datasheet's change with temperature over the change since the bias was measured, and over
+  // a degree more: the filter's level lags a stop after a drive by the drive's drift (agv at
+  // 0.04 dps/C: 0.012 dps, with no temperature change since), and a temperature read in whole
+  // degrees is rebuilt between its steps (TemperatureReading). A curve's rate is far beyond.
+  const double change_c = std::isfinite(temp_at_bias_c_[2]) && std::isfinite(previous_temp_c_)
+                              ? std::abs(previous_temp_c_ - temp_at_bias_c_[2])
+                              : 0.0;
+  const double lag_c = 1.0;
+  const Vec3 mean = quiet_.mean_dps();
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const double bound = kZeroRateChangeDpsPerC * (change_c + lag_c) +
+                         kPlausibleSigmas * std::sqrt(filters_[axis].bias_variance()) + kPlausibleFloorDps;
+    if (std::abs(mean[static_cast<Eigen::Index>(axis)] - filters_[axis].bias_dps()) > bound) return false;
+  }
+  return true;
+}
+
+bool AutoEstimator::restart_on_temperature_trail() {
+  // For the drift no model follows yet: a model in use has its own refutation (above), and a
+  // pending restart waits for the stop that decides it.
+  if (!settings_.use_temperature || replaced_.pending || quiet_.temp_s <= 0.0 ||
+      quiet_.duration_s + kTimeEpsilonS < kTrailStopSegments * segments_.segment_s)
+    return false;
+  for (int axis = 0; axis < 3; ++axis)
+    if (models_.temperature_model(axis).ready()) return false;
+  if (!level_within_datasheet_drift()) return false;
+  const TemperatureTrail::Stop current{
+      .level_dps = quiet_.mean_dps(), .temp_c = quiet_.temp_sum_c_s / quiet_.temp_s, .duration_s = quiet_.duration_s};
+  const auto line = trail_.explain(current, models_.white_dps2_s(), temperature_reading_.variance_c2());
+  if (!line) return false;
+  // The stops the line rests on, for the temperature model below (recover_bias clears the run).
+  std::array<TemperatureTrail::Stop, TemperatureTrail::kCapacity + 1> stops{};
+  stops[0] = current;
+  for (std::size_t i = 1; i < line->stops; ++i) stops[i] = trail_.recent(i - 1);
+  const double at_t_s = segment_.start_t_s + segment_.duration_s;
+  // Decided by the line, not by a later stop: no take-back, no lean.
+  recovery_ambiguous_ = false;
+  recovery_revocable_ = false;
+  trail_line_ = line;
+  const SensorModels::TemperatureModels kept = models_.temperature_models();
+  recover_bias();
+  trail_line_.reset();
+  // The models keep what the accepted segments taught them (the line passes through the level
+  // they measured) and learn the stops, one point per segment's worth, as accepted ones.
+  models_.restore_temperature_models(kept);
+  const Vec3 r = models_.white_dps2_s() / segments_.segment_s;
+  for (std::size_t i = 0; i < line->stops; ++i) {
+    const auto segments = std::max(1L, std::lround(stops[i].duration_s / segments_.segment_s));
+    for (long k = 0; k < segments; ++k)
+      models_.add_temperature_point(at_t_s, stops[i].temp_c, stops[i].level_dps, r,
+                                    std::numeric_limits<double>::quiet_NaN());
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    const double k = line->slope_dps_per_c[a];
+    if (k * k > kTrailSigmas * kTrailSigmas * line->slope_variance[a]) models_.slope_shown_across_stops(axis);
+  }
+  trail_.clear();
+  ++trail_restarts_;
+  last_trail_slope_z_dps_per_c_ = line->slope_dps_per_c.z();
+  return true;
 }
 
 void AutoEstimator::forget_models_the_run_refutes() {
@@ -381,10 +469,27 @@ void AutoEstimator::recover_bias() {
     AxisFilter::State corrected = from;
     if (bias_from_startup_only_ && !creep_sized) corrected.angle_deg -= exposed_deg;
     const double returned = axis == 2 && returned_deg ? *returned_deg : 0.0;
+    double angle_variance =
+        (exposed_deg + matched_deg) * (exposed_deg + matched_deg) + run_deg * run_deg + returned * returned;
+    if (trail_line_) {
+      // The line says where the bias was when the filter last measured it at T0 (the filter's
+      // level lags a stop after a drive) and how it moved since: by k (T - T0), which the angle
+      // integrated up to the run's start as k times the integral of (T - T0) dt (the run itself
+      // goes back under the zero-rate update). What remains is the line's own uncertainty.
+      const double run_c = std::isfinite(previous_temp_c_) && std::isfinite(temp_at_bias_c_[axis])
+                               ? previous_temp_c_ - temp_at_bias_c_[axis]
+                               : 0.0;
+      const double integral_c_s = temp_change_integral_now(axis) - run_c * quiet_.duration_s;
+      const double t0_c = temp_at_bias_c_[axis];
+      const double since_s = std::max(0.0, run_start_s - bias_measured_t_s_);
+      const double offset_dps = std::isfinite(t0_c) ? trail_line_->at(t0_c)[a] - from.bias_dps : 0.0;
+      const double offset_variance = std::isfinite(t0_c) ? trail_line_->variance_at(t0_c)[a] : 0.0;
+      corrected.angle_deg -= offset_dps * since_s + trail_line_->slope_dps_per_c[a] * integral_c_s;
+      angle_variance = offset_variance * since_s * since_s +
+                       trail_line_->slope_variance[a] * integral_c_s * integral_c_s + returned * returned;
+    }
     if (axis == 2) yaw_correction_deg = corrected.angle_deg - from.angle_deg;
-    filters_[axis].restart_bias(
-        corrected, mean[a], r[a],
-        (exposed_deg + matched_deg) * (exposed_deg + matched_deg) + run_deg * run_deg + returned * returned);
+    filters_[axis].restart_bias(corrected, mean[a], r[a], angle_variance);
     replaced_.as_restarted[axis] = filters_[axis].state();
   }
   attitude_.set_attitude(Eigen::AngleAxisd(deg_to_rad(yaw_correction_deg), Vec3::UnitZ()) * quiet_.attitude_at_start);

@@ -70,9 +70,9 @@ SegmentVerdict AutoEstimator::close_segment(bool moving) {
     restored_level_open_ = false;  // motion came first: the restored level meets a stop after it
     replaced_.quiet_run_over = true;
     previous_.usable = false;
-    quiet_.duration_s = 0.0;  // motion: whatever the quiet run was, it has ended
-    commit_last_accepted();   // motion came abruptly: the still segment before it stands
-    outlier_ = Outlier{};     // and so does a rejection before it
+    end_quiet_run();         // motion: whatever the quiet run was, it has ended
+    commit_last_accepted();  // motion came abruptly: the still segment before it stands
+    outlier_ = Outlier{};    // and so does a rejection before it
     return verdict;
   }
   const Vec3 mean = segment_.stats.mean_dps();
@@ -158,7 +158,7 @@ SegmentVerdict AutoEstimator::close_segment(bool moving) {
     ++accepted_;
     last_accepted_.pending = true;
     for (std::size_t axis = 0; axis < 3; ++axis) last_accepted_.as_still[axis] = filters_[axis].state();
-    quiet_.duration_s = 0.0;
+    end_quiet_run();
   } else {
     outlier_ = Outlier{};  // a second rejection in a row: the one before was no outlier
     // A rejection inside a stop (between accepted segments) may have been noise: it is taken

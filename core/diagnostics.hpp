@@ -34,6 +34,8 @@ struct Diagnostics {
   std::uint64_t recoveries_taken_back = 0;  // auto: a later stop agreed with the level replaced
   std::uint64_t saved_bias_restarts = 0;    // auto: of bias_recoveries, a saved bias the first still segment refused
   std::uint64_t saved_noise_replaced = 0;   // auto: a saved sigma_still the first seconds showed wrong
+  std::uint64_t trail_restarts = 0;  // auto: of bias_recoveries, on a line the rejected stops drew against temperature
+  double trail_slope_z_dps_per_c = 0.0;  // the last such line's slope on z
   // auto: restarts back to a level a stop had measured, whose heading correction a stop after
   // motion confirmed, and the last such correction (deg; the heading jumped by it).
   std::uint64_t returns_mended = 0;

@@ -183,6 +183,8 @@ Diagnostics Estimator::diagnostics() const {
     d.recoveries_taken_back = a->recoveries_taken_back();
     d.saved_bias_restarts = a->saved_bias_restarts();
     d.saved_noise_replaced = a->saved_noise_replaced();
+    d.trail_restarts = a->temperature_trail_restarts();
+    d.trail_slope_z_dps_per_c = a->last_trail_slope_z_dps_per_c();
     d.returns_mended = a->returns_mended();
     d.last_return_correction_deg = a->last_return_correction_deg();
     d.gaps_bridged = a->gaps_bridged();

@@ -109,6 +109,7 @@ class SensorModels {
   const TemperatureModels& temperature_models() const { return temperature_; }
   // A restart taken back: the models as they were before it, without what the other level taught.
   void restore_temperature_models(const TemperatureModels& models) { temperature_ = models; }
+  void slope_shown_across_stops(int axis) { temperature_[static_cast<std::size_t>(axis)].slope_shown_across_stops(); }
 
  private:
   BiasSettings segments_;

@@ -48,6 +48,12 @@ class TemperatureModel {
   bool ready() const { return ready_; }
   // Whether a still run has shown a slope steep enough to use the model before min_span_c.
   bool run_showed_slope() const { return run_showed_slope_; }
+  // Stops the estimator rejected have shown such a slope across them (TemperatureTrail): as one
+  // run's would, it lets the model be used before min_span_c while all its points agree.
+  void slope_shown_across_stops() {
+    run_showed_slope_ = true;
+    solve();
+  }
   // d bias / d T at temp_c (dps per degC) and its variance; zero slope while not ready.
   double slope_dps_per_c(double temp_c) const;
   double slope_variance() const { return slope_variance_; }

@@ -36,6 +36,15 @@ void ServiceSink::batch_done(const core::Estimator& estimator, const core::Sampl
                   last.bias_dps.z());
     app::log(app::LogPriority::Warning, "bias-recovery", text);
   }
+  if (rose(diagnostics.trail_restarts, trail_restarts_seen_)) {
+    recoveries_seen_ = diagnostics.bias_recoveries;  // this one, said here
+    std::snprintf(text, sizeof text,
+                  "the bias restarted on a line the rejected stops drew against temperature (%+.4f dps/C on z, a "
+                  "drift faster than assumed without a model): the heading since the last accepted stop was mended "
+                  "along it (sigma now %.1f deg) and the temperature model starts from it",
+                  diagnostics.trail_slope_z_dps_per_c, last.heading_sigma_deg);
+    app::log(app::LogPriority::Notice, "bias-recovery", text);
+  }
   if (rose(diagnostics.bias_recoveries, recoveries_seen_)) {
     std::snprintf(text, sizeof text,
                   "the bias restarted from a long quiet period it could not explain (a start-up while turning, or "

@@ -22,6 +22,7 @@ class ServiceSink final : public BatchSink {
   std::chrono::steady_clock::time_point last_status_ = std::chrono::steady_clock::now();
   std::uint64_t recoveries_seen_ = 0;
   std::uint64_t saved_bias_restarts_seen_ = 0;
+  std::uint64_t trail_restarts_seen_ = 0;
   std::uint64_t saved_noise_replaced_seen_ = 0;
   std::uint64_t refuted_models_seen_ = 0;
   std::uint64_t taken_back_seen_ = 0;
