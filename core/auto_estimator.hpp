@@ -356,6 +356,7 @@ class AutoEstimator {
   void end_quiet_run();
   bool level_within_datasheet_drift() const;
   bool restart_on_temperature_trail();
+  bool line_meets_measured_level(const TemperatureTrail::Line& line) const;
   // What a recovery of a bias no stop had confirmed replaced, until a stop decides between the
   // two levels: the filters at the recovery as they were without it (the quiet run integrated
   // as motion) and just after it. Nothing in the quiet run tells a stop from a creep held as

@@ -64,6 +64,9 @@ constexpr double kReturnSignificance = 2.0;
 // for the temperature model beyond this many sigmas.
 constexpr double kTrailStopSegments = 2.0;
 constexpr double kTrailSigmas = 3.0;
+// How far the filter's level may lag a drifting bias after a drive: the datasheet's 0.04 dps/C
+// over half a degree.
+constexpr double kTrailLagDps = 0.02;
 
 }  // namespace
 
@@ -164,6 +167,27 @@ bool AutoEstimator::level_within_datasheet_drift() const {
   return true;
 }
 
+bool AutoEstimator::line_meets_measured_level(const TemperatureTrail::Line& line) const {
+  // The line, taken back to the temperature the filter last measured the bias at, meets the level
+  // it measured there within the lag a drive's drift leaves (agv at 0.04 dps/C: 0.012 dps) and
+  // their sigmas: a line that misses it by more is creeps (random world 140: 0.052 dps off, the
+  // heading mended by 9 deg the wrong way). Nor taken back farther than the stops spread: over
+  // 3 C beyond stops spread over 2 C (random world 87 with whole-degree temperatures) the line's
+  // own sigma there admits any level, and the mend is a guess.
+  const double t0_c = temp_at_bias_c_[2];
+  if (!std::isfinite(t0_c)) return false;
+  const double spread_c = line.warmest_c - line.coldest_c;
+  if (t0_c < line.coldest_c - spread_c || t0_c > line.warmest_c + spread_c) return false;
+  const Vec3 at = line.at(t0_c);
+  const Vec3 variance = line.variance_at(t0_c);
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<Eigen::Index>(axis);
+    const double sd = std::sqrt(variance[a] + filters_[axis].bias_variance());
+    if (std::abs(at[a] - filters_[axis].bias_dps()) > kTrailLagDps + kTrailSigmas * sd) return false;
+  }
+  return true;
+}
+
 bool AutoEstimator::restart_on_temperature_trail() {
   // For the drift no model follows yet: a model in use has its own refutation (above), and a
   // pending restart waits for the stop that decides it.
@@ -176,7 +200,7 @@ bool AutoEstimator::restart_on_temperature_trail() {
   const TemperatureTrail::Stop current{
       .level_dps = quiet_.mean_dps(), .temp_c = quiet_.temp_sum_c_s / quiet_.temp_s, .duration_s = quiet_.duration_s};
   const auto line = trail_.explain(current, models_.white_dps2_s(), temperature_reading_.variance_c2());
-  if (!line) return false;
+  if (!line || !line_meets_measured_level(*line)) return false;
   // The stops the line rests on, for the temperature model below (recover_bias clears the run).
   std::array<TemperatureTrail::Stop, TemperatureTrail::kCapacity + 1> stops{};
   stops[0] = current;

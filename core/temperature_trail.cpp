@@ -45,7 +45,7 @@ std::optional<TemperatureTrail::Line> TemperatureTrail::fit(std::size_t stops, c
   std::sort(temps.begin(), temps.begin() + static_cast<std::ptrdiff_t>(n));
   if (std::min(temps[n - 2] - temps[0], temps[n - 1] - temps[1]) < settings_.min_span_c) return std::nullopt;
 
-  Line line{.stops = n};
+  Line line{.coldest_c = temps[0], .warmest_c = temps[n - 1], .stops = n};
   bool steep = false;
   for (Eigen::Index a = 0; a < 3; ++a) {
     const auto variance = [&](std::size_t i, double slope) {

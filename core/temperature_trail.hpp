@@ -52,7 +52,8 @@ class TemperatureTrail {
     Vec3 level_dps = Vec3::Zero();  // at mean_temp_c (each axis weighs its stops its own way)
     Vec3 level_variance = Vec3::Zero();
     Vec3 mean_temp_c = Vec3::Zero();
-    std::size_t stops = 0;  // how many of the latest stops (with `current`) it rests on
+    double coldest_c = 0.0, warmest_c = 0.0;  // the stops' temperatures
+    std::size_t stops = 0;                    // how many of the latest stops (with `current`) it rests on
     Vec3 at(double temp_c) const {
       return level_dps + slope_dps_per_c.cwiseProduct(Vec3::Constant(temp_c) - mean_temp_c);
     }

@@ -36,6 +36,8 @@ TEST(TemperatureTrail, StopsOnTheDatasheetsSlopeThroughAWarmUpExplainTheRestart)
     const auto line = trail.explain(stop_at(23.6, 0.04, 9.0, random), kWhite, 0.0);
     ASSERT_TRUE(line) << "seed " << seed;
     EXPECT_EQ(line->stops, 4u);
+    EXPECT_DOUBLE_EQ(line->coldest_c, 22.4);
+    EXPECT_DOUBLE_EQ(line->warmest_c, 23.6);
     EXPECT_NEAR(line->slope_dps_per_c.z(), 0.04, 4.0 * std::sqrt(line->slope_variance.z()));
     EXPECT_LT(std::sqrt(line->slope_variance.z()), 0.01);
     EXPECT_NEAR(line->at(22.0).z(), -0.43, 4.0 * std::sqrt(line->variance_at(22.0).z()));
