@@ -6,9 +6,10 @@
 // point to learn from, and no stop lasts the wait a restart needs (bench/datasheet_tempco.sh).
 // Each such stop's level still measures the bias. When the last few of them lie on one line
 // against their temperatures whose slope is steep and sure, the temperature's doing explains
-// them; a run of creeps would have to grow in step with the temperature to look alike. Not
-// through the level the filter last held: after a drive its bias lags the stop it accepted
-// (agv at 0.04 dps/C: 0.012 dps behind, six times its own sigma).
+// them; a run of creeps would have to grow in step with the temperature to look alike. Fitted
+// without the level the filter last held (after a drive that lags the stop it accepted: agv at
+// 0.04 dps/C, 0.012 dps behind, six of its sigmas); the estimator then asks the line to meet that
+// level within such a lag (AutoEstimator::line_meets_measured_level).
 #include <array>
 #include <cstddef>
 #include <optional>
@@ -23,8 +24,9 @@ struct TemperatureTrailSettings {
   double min_slope_dps_per_c = 0.009;  // a slope the drift assumed without a model does not explain
   double max_slope_dps_per_c = 0.1;    // beyond the datasheet's figure by far: no zero-rate level's
   // Four stops over half a degree or more: with three, creeps of up to 0.05 dps at random drew
-  // a line twice as often (8 % against 3.5 %, tests/test_temperature_trail.cpp); over a degree,
-  // 0.3 %, but found one stop later, the agv worlds at 0.03-0.04 dps/C lost 3-8 deg more first.
+  // a line twice as often (8 % against 3.5 % of 2000 trails in a standalone run of this fit, as
+  // tests/test_temperature_trail.cpp sets them up); over a degree, 0.3 %, but found one stop
+  // later, the agv worlds at 0.03-0.04 dps/C lost 3-8 deg more first.
   double min_span_c = 0.5;
   std::size_t min_stops = 4;
 };
